@@ -1,0 +1,42 @@
+#pragma once
+// Sampling a field and its derivatives on a grid, ready to write out.
+//
+// omega:     value at each point
+// gradient:  3 components per point (z = 0 in 2D, so viewers can draw
+//            glyphs), in point order
+// gradient_norm: |grad omega|
+// higher:    one array per order 2..K; components are the partials of that
+//            order in the graded layout of multi_index.hpp, named by the
+//            variables they differentiate ("xx", "xy", "yy", ...).
+//            Values are derivatives, not Taylor coefficients.
+
+#include <sage/grid.hpp>
+#include <sage/tape.hpp>
+
+#include <string>
+#include <vector>
+
+namespace sage {
+
+struct DerivativeArray {
+  int order = 2;
+  std::vector<std::string> components;
+  std::vector<double> values;  // components.size() per point
+};
+
+struct FieldSamples {
+  Grid grid;
+  int order = 1;
+  std::vector<double> omega;
+  std::vector<double> gradient;
+  std::vector<double> gradient_norm;
+  std::vector<DerivativeArray> higher;
+};
+
+constexpr int kMaxSampleOrder = 6;
+
+/// Evaluates root 0 of `tape` with tuples of `order` (1..kMaxSampleOrder)
+/// at every point of `grid`, on all cores.
+FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress = {});
+
+}  // namespace sage

@@ -1,0 +1,80 @@
+#pragma once
+// Regular 2D/3D grids of sample points, and parallel evaluation of a tape
+// over them.
+//
+// Points are numbered with x fastest, then y, then z (VTK's order):
+// index = i + nx (j + ny k). A grid of n points along an axis spans
+// [lo, hi] inclusive with spacing (hi - lo) / (n - 1).
+
+#include <sage/evaluator.hpp>
+#include <sage/tape.hpp>
+
+#include <array>
+#include <atomic>
+#include <functional>
+#include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace sage {
+
+struct Grid {
+  int dimension = 2;
+  std::array<double, 3> lo{0, 0, 0};
+  std::array<double, 3> hi{1, 1, 1};
+  std::array<int, 3> points{2, 2, 1};  // per axis; 1 along unused axes
+
+  std::size_t size() const {
+    return static_cast<std::size_t>(points[0]) * static_cast<std::size_t>(points[1]) *
+           static_cast<std::size_t>(points[2]);
+  }
+  double spacing(int axis) const { return points[axis] > 1 ? (hi[axis] - lo[axis]) / (points[axis] - 1) : 0.0; }
+  std::array<double, 3> point(std::size_t index) const {
+    const std::size_t i = index % points[0], j = (index / points[0]) % points[1], k = index / points[0] / points[1];
+    return {lo[0] + i * spacing(0), lo[1] + j * spacing(1), dimension == 3 ? lo[2] + k * spacing(2) : 0.0};
+  }
+
+  /// Parses "200x200" (2D) or "64x64x64" (3D); throws std::invalid_argument.
+  static std::array<int, 3> parse_resolution(const std::string& text, int dimension);
+  /// Parses "xmin,xmax,ymin,ymax[,zmin,zmax]"; throws std::invalid_argument.
+  static void parse_bounds(const std::string& text, int dimension, std::array<double, 3>& lo,
+                           std::array<double, 3>& hi);
+};
+
+/// Progress callback: fraction done in [0, 1]. Called from one thread.
+using Progress = std::function<void(double)>;
+
+/// Evaluates `tape` with scalar type T at every grid point, in parallel on
+/// all cores, and calls visit(index, evaluator) with the evaluator holding
+/// that point's results. visit runs concurrently for different indices: it
+/// must only write to slots owned by `index`.
+template <class T, class Visit>
+void for_each_grid_point(const Tape& tape, const Grid& grid, Visit visit, const Progress& progress = {}) {
+  const std::size_t n = grid.size();
+  const std::size_t chunk = 1024;
+  std::atomic<std::size_t> done{0};
+#pragma omp parallel
+  {
+    Evaluator<T> eval(tape);
+    bool reporter = true;
+#ifdef _OPENMP
+    reporter = omp_get_thread_num() == 0;
+#endif
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t start = 0; start < n; start += chunk) {
+      const std::size_t end = std::min(n, start + chunk);
+      for (std::size_t i = start; i < end; ++i) {
+        const auto p = grid.point(i);
+        eval.evaluate(p.data());
+        visit(i, eval);
+      }
+      const std::size_t total = done.fetch_add(end - start) + (end - start);
+      if (reporter && progress) progress(static_cast<double>(total) / static_cast<double>(n));
+    }
+  }
+  if (progress) progress(1.0);
+}
+
+}  // namespace sage

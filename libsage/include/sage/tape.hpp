@@ -1,0 +1,56 @@
+#pragma once
+// Tape: an expression graph compiled into a flat list of instructions over
+// registers, evaluated over many points.
+//
+// Ownership: a Tape owns its instructions and holds no reference to the
+// graph it came from; it is immutable and may be shared by any number of
+// Evaluators (one per thread). Compiling visits the graph once, in
+// topological order, and reuses a register once its last reader has run,
+// so the register count tracks the width of the graph, not its size.
+//
+// Several roots may be compiled together (a field and its gradient, say);
+// shared subexpressions are then computed once per point.
+
+#include <sage/expression.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace sage {
+
+struct Instruction {
+  Op op;
+  std::uint32_t out;
+  std::uint32_t a;  // first argument register (unused for arity 0)
+  std::uint32_t b;  // second argument register (unused for arity < 2)
+  double p0;
+  double p1;
+};
+
+class Tape {
+ public:
+  /// Compiles `roots` for evaluation in `dimension` (2 or 3) variables.
+  /// Throws std::invalid_argument if an expression uses a variable beyond
+  /// the dimension (z in a 2D model).
+  Tape(const std::vector<Expr>& roots, int dimension);
+  Tape(const Expr& root, int dimension) : Tape(std::vector<Expr>{root}, dimension) {}
+
+  int dimension() const { return dimension_; }
+  std::size_t register_count() const { return registers_; }
+  const std::vector<Instruction>& code() const { return code_; }
+  /// Registers holding constants, loaded once per evaluator.
+  const std::vector<std::pair<std::uint32_t, double>>& constants() const { return constants_; }
+  /// Register of each root after evaluation, in the order given.
+  const std::vector<std::uint32_t>& results() const { return results_; }
+  /// Register holding variable i (0 = x), fixed: registers 0..dimension-1.
+  static std::uint32_t variable_register(int i) { return static_cast<std::uint32_t>(i); }
+
+ private:
+  int dimension_;
+  std::size_t registers_ = 0;
+  std::vector<Instruction> code_;
+  std::vector<std::pair<std::uint32_t, double>> constants_;
+  std::vector<std::uint32_t> results_;
+};
+
+}  // namespace sage

@@ -1,0 +1,46 @@
+#pragma once
+// Trimming (paper 004, sec. 4; FORMULAS.md): a distance-like field of an
+// unbounded curve or surface h = 0 (h normalized) restricted to the region
+// t >= 0 (t normalized, built with R-functions).
+//
+// All trimmed fields here are >= 0 everywhere and 0 exactly on the trimmed
+// entity: distances, not solids. Glue them with R-conjunction and a point
+// membership sign to get a solid (sec. 5.1).
+//
+//  - simple:      sqrt(-((-h^2) AND t))  with the given R-function system;
+//                 normalized on both sides away from the border, its
+//                 derivative blows up near the border point from outside.
+//  - normalized:  sqrt(h^2 + ((|t| - t) / 2)^2)                     (C1)
+//                 exactly the Euclidean distance for the half-line y = 0,
+//                 x >= 0 (h = y, t = x).
+//  - smooth:      sqrt(h^2 + ((sqrt(t^2 + h^4) - t) / 2)^2)
+//                 smooth away from the entity, equal to the C1 form to
+//                 first order near it.
+//  - orthogonalize: replaces t by normalize(t - h (grad h . grad t)); on
+//                 h = 0 it equals t's zero set and its gradient there is
+//                 orthogonal to grad h, which restores |grad| = 1 near the
+//                 border point when h = 0 and t = 0 meet at an angle.
+
+#include <sage/expression.hpp>
+#include <sage/rfunction.hpp>
+
+namespace sage {
+
+enum class TrimMethod { Simple, Normalized, Smooth };
+
+/// Parses "simple", "normalized", "smooth"; throws std::invalid_argument.
+TrimMethod parse_trim_method(const std::string& text);
+
+Expr trim_simple(const Expr& h, const Expr& t, const RSystem& system);
+Expr trim_normalized(const Expr& h, const Expr& t);
+Expr trim_smooth(const Expr& h, const Expr& t);
+
+/// t made orthogonal to h = 0 and normalized (see above).
+Expr orthogonalize(const Expr& h, const Expr& t, int dimension);
+
+/// Distance-like field of the segment from a to b (2D): h is the signed
+/// distance to the line through a and b, t = ((L/2)^2 - |p - c|^2) / L.
+Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& b, TrimMethod method,
+                   const RSystem& system = RSystem::r0());
+
+}  // namespace sage

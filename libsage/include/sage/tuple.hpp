@@ -1,0 +1,252 @@
+#pragma once
+// Tuple<N, K>: a truncated multivariate Taylor series, the automatic
+// differentiation type of sage (paper 004, sec. 5.3).
+//
+// A tuple holds the value and every partial derivative through total order
+// K of a function of N variables at one point. It stores Taylor
+// coefficients, not derivatives:
+//
+//     c[alpha] = (d^|alpha| f / dx^alpha) / alpha!,   alpha! = a1! a2! ...
+//
+// in the graded layout of multi_index.hpp; derivative(alpha) applies the
+// alpha! back. Products are Cauchy products of the series, and an
+// elementary function g is applied by composing its univariate Taylor
+// series at the value with the non-constant part of the argument.
+//
+// Worked example (N = 2, K = 2): f = x * y at (2, 3).
+//   x = 2 + 1 dx          -> c = {2, 1, 0, 0, 0, 0}
+//   y = 3 + 1 dy          -> c = {3, 0, 1, 0, 0, 0}
+//   x * y = 6 + 3 dx + 2 dy + 1 dx dy
+//                         -> c = {6, 3, 2, 0, 1, 0}
+//   derivative({1,1}) = 1! 1! * 1 = 1 = d2f/dxdy.
+//
+// Why N and K are compile-time: a tuple is a fixed array on the stack, the
+// product table is a constant, loops unroll, and nothing allocates while a
+// tape runs. Dimension is a template parameter across sage (2 and 3), and
+// the command line dispatches a run-time --order once to an instantiation.
+//
+// Singular points follow scalar.hpp (sqrt at 0: constant 0 tuple, and so on).
+
+#include <sage/multi_index.hpp>
+#include <sage/scalar.hpp>
+
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace sage {
+
+template <int N, int K>
+class Tuple {
+  static_assert(N >= 1 && N <= 3, "tuples are for 1, 2 or 3 variables");
+  static_assert(K >= 0 && K <= 10, "order must be in 0..10");
+
+ public:
+  static constexpr int dimension = N;
+  static constexpr int order = K;
+  static constexpr int size = multi_index_count(N, K);
+  static constexpr MultiIndexTable<N, K> indices{};
+  static constexpr ProductTable<N, K> products{};
+
+  /// Taylor coefficients in the graded layout.
+  std::array<double, size> c{};
+
+  Tuple() = default;
+  Tuple(double constant) { c[0] = constant; }  // NOLINT: implicit like a double
+
+  /// The independent variable `var` at `value`.
+  static Tuple variable(int var, double value) {
+    Tuple t(value);
+    if (K >= 1) t.c[1 + var] = 1.0;
+    return t;
+  }
+
+  double value() const { return c[0]; }
+
+  /// The partial derivative d^alpha f (alpha! times the coefficient).
+  double derivative(const MultiIndex<N>& alpha) const {
+    const int i = indices.find(alpha);
+    return i < 0 ? 0.0 : c[i] * factorial_product(alpha);
+  }
+  /// The partial derivative at layout position i.
+  double derivative_at(int i) const { return c[i] * factorial_product(indices.index[i]); }
+
+  /// Gradient (first partials).
+  std::array<double, N> gradient() const {
+    std::array<double, N> g{};
+    if constexpr (K >= 1)
+      for (int v = 0; v < N; ++v) g[v] = c[1 + v];
+    return g;
+  }
+
+  Tuple& operator+=(const Tuple& o) {
+    for (int i = 0; i < size; ++i) c[i] += o.c[i];
+    return *this;
+  }
+  Tuple& operator-=(const Tuple& o) {
+    for (int i = 0; i < size; ++i) c[i] -= o.c[i];
+    return *this;
+  }
+  Tuple& operator*=(double s) {
+    for (double& x : c) x *= s;
+    return *this;
+  }
+
+  static double factorial_product(const MultiIndex<N>& alpha) {
+    double f = 1.0;
+    for (int e : alpha)
+      for (int k = 2; k <= e; ++k) f *= k;
+    return f;
+  }
+};
+
+// ---- arithmetic -------------------------------------------------------------
+
+template <int N, int K>
+Tuple<N, K> operator+(Tuple<N, K> a, const Tuple<N, K>& b) { return a += b; }
+template <int N, int K>
+Tuple<N, K> operator-(Tuple<N, K> a, const Tuple<N, K>& b) { return a -= b; }
+template <int N, int K>
+Tuple<N, K> operator-(Tuple<N, K> a) { return a *= -1.0; }
+template <int N, int K>
+Tuple<N, K> operator*(Tuple<N, K> a, double s) { return a *= s; }
+template <int N, int K>
+Tuple<N, K> operator*(double s, Tuple<N, K> a) { return a *= s; }
+
+template <int N, int K>
+Tuple<N, K> operator*(const Tuple<N, K>& a, const Tuple<N, K>& b) {
+  Tuple<N, K> r;
+  for (const auto& t : Tuple<N, K>::products.terms) r.c[t.out] += a.c[t.lhs] * b.c[t.rhs];
+  return r;
+}
+
+/// g(a) from g's univariate Taylor coefficients g_k = g^(k)(a0) / k! at the
+/// value a0 of a: sum_k g_k (a - a0)^k, by Horner's rule. (a - a0)^(K+1)
+/// vanishes in the truncation, so K products suffice.
+template <int N, int K>
+Tuple<N, K> compose(const Tuple<N, K>& a, const std::array<double, K + 1>& g) {
+  Tuple<N, K> d = a;
+  d.c[0] = 0.0;
+  Tuple<N, K> r(g[K]);
+  for (int k = K - 1; k >= 0; --k) {
+    r = r * d;
+    r.c[0] += g[k];
+  }
+  return r;
+}
+
+/// Taylor coefficients of t -> (a0 + t)^r at t = 0, a0 != 0.
+template <int K>
+std::array<double, K + 1> power_series(double a0, double r) {
+  std::array<double, K + 1> g{};
+  g[0] = std::pow(a0, r);
+  for (int k = 1; k <= K; ++k) g[k] = g[k - 1] * (r - k + 1) / (k * a0);
+  return g;
+}
+
+template <int N, int K>
+Tuple<N, K> pow_real(const Tuple<N, K>& a, double r) {
+  const double a0 = a.value();
+  if (a0 == 0.0) return Tuple<N, K>(std::pow(0.0, r));  // singular: derivatives 0
+  if (a0 < 0.0 && r != std::floor(r)) return Tuple<N, K>(std::numeric_limits<double>::quiet_NaN());
+  return compose(a, power_series<K>(a0, r));
+}
+
+template <int N, int K>
+Tuple<N, K> pow_int(const Tuple<N, K>& a, int n) {
+  const double a0 = a.value();
+  if (a0 != 0.0) return compose(a, power_series<K>(a0, n));
+  if (n < 0) return Tuple<N, K>(std::numeric_limits<double>::infinity());
+  std::array<double, K + 1> g{};  // (0 + t)^n = t^n exactly
+  if (n <= K) g[n] = 1.0;
+  return compose(a, g);
+}
+
+template <int N, int K>
+Tuple<N, K> sqrt(const Tuple<N, K>& a) { return pow_real(a, 0.5); }
+
+template <int N, int K>
+Tuple<N, K> square(const Tuple<N, K>& a) { return a * a; }
+
+template <int N, int K>
+Tuple<N, K> operator/(const Tuple<N, K>& a, const Tuple<N, K>& b) {
+  if (b.value() == 0.0) return Tuple<N, K>(a.value() / 0.0);  // pole: +-inf (or NaN for 0/0)
+  return a * compose(b, power_series<K>(b.value(), -1.0));
+}
+
+template <int N, int K>
+Tuple<N, K> div_safe(const Tuple<N, K>& a, const Tuple<N, K>& b) {
+  return b.value() == 0.0 ? Tuple<N, K>(0.0) : a / b;
+}
+
+template <int N, int K>
+Tuple<N, K> exp(const Tuple<N, K>& a) {
+  std::array<double, K + 1> g{};
+  g[0] = std::exp(a.value());
+  for (int k = 1; k <= K; ++k) g[k] = g[k - 1] / k;
+  return compose(a, g);
+}
+
+template <int N, int K>
+Tuple<N, K> log(const Tuple<N, K>& a) {
+  const double a0 = a.value();
+  if (!(a0 > 0.0)) return Tuple<N, K>(std::log(a0));  // -inf at 0, NaN below
+  std::array<double, K + 1> g{};
+  g[0] = std::log(a0);
+  double p = 1.0;
+  for (int k = 1; k <= K; ++k) {
+    p /= a0;
+    g[k] = (k % 2 ? 1.0 : -1.0) * p / k;
+  }
+  return compose(a, g);
+}
+
+namespace detail {
+// Taylor coefficients of sin (phase 0) or cos (phase 1) at x0: the k-th
+// derivative of sin is sin(x0 + k pi/2), a cycle of s, c, -s, -c.
+template <int K>
+std::array<double, K + 1> trig_series(double x0, int phase) {
+  const double s = std::sin(x0), co = std::cos(x0);
+  const double cycle[4] = {s, co, -s, -co};
+  std::array<double, K + 1> g{};
+  double fact = 1.0;
+  for (int k = 0; k <= K; ++k) {
+    if (k > 0) fact *= k;
+    g[k] = cycle[(k + phase) % 4] / fact;
+  }
+  return g;
+}
+}  // namespace detail
+
+template <int N, int K>
+Tuple<N, K> sin(const Tuple<N, K>& a) { return compose(a, detail::trig_series<K>(a.value(), 0)); }
+template <int N, int K>
+Tuple<N, K> cos(const Tuple<N, K>& a) { return compose(a, detail::trig_series<K>(a.value(), 1)); }
+
+template <int N, int K>
+Tuple<N, K> abs(const Tuple<N, K>& a) {
+  if (a.value() > 0) return a;
+  if (a.value() < 0) return -a;
+  return Tuple<N, K>(0.0);
+}
+
+template <int N, int K>
+Tuple<N, K> step(const Tuple<N, K>& a) { return Tuple<N, K>(step(a.value())); }
+
+template <int N, int K>
+Tuple<N, K> clamp_nonneg(const Tuple<N, K>& a) { return a.value() > 0 ? a : Tuple<N, K>(0.0); }
+
+template <int N, int K>
+Tuple<N, K> min(const Tuple<N, K>& a, const Tuple<N, K>& b) {
+  if (a.value() < b.value()) return a;
+  if (b.value() < a.value()) return b;
+  return 0.5 * (a + b);
+}
+template <int N, int K>
+Tuple<N, K> max(const Tuple<N, K>& a, const Tuple<N, K>& b) {
+  if (a.value() > b.value()) return a;
+  if (b.value() > a.value()) return b;
+  return 0.5 * (a + b);
+}
+
+}  // namespace sage

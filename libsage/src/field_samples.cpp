@@ -1,0 +1,85 @@
+#include <sage/field_samples.hpp>
+#include <sage/tuple.hpp>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sage {
+
+namespace {
+
+template <int N, int K>
+FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress) {
+  using T = Tuple<N, K>;
+  const std::size_t n = grid.size();
+  FieldSamples s;
+  s.grid = grid;
+  s.order = K;
+  s.omega.resize(n);
+  s.gradient.assign(3 * n, 0.0);
+  s.gradient_norm.resize(n);
+
+  // Layout positions of each order's partials, and their names.
+  std::vector<std::vector<int>> positions(K + 1);
+  for (int i = 0; i < T::size; ++i) {
+    const auto& alpha = T::indices.index[i];
+    const int k = order_of<N>(alpha);
+    if (k < 2) continue;
+    positions[k].push_back(i);
+  }
+  for (int k = 2; k <= K; ++k) {
+    DerivativeArray d;
+    d.order = k;
+    for (int i : positions[k]) {
+      std::string name;
+      for (int v = 0; v < N; ++v) name.append(static_cast<std::size_t>(T::indices.index[i][v]), "xyz"[v]);
+      d.components.push_back(name);
+    }
+    d.values.resize(n * d.components.size());
+    s.higher.push_back(std::move(d));
+  }
+
+  for_each_grid_point<T>(
+      tape, grid,
+      [&](std::size_t p, const Evaluator<T>& eval) {
+        const T& t = eval.result();
+        s.omega[p] = t.value();
+        double norm2 = 0;
+        for (int v = 0; v < N; ++v) {
+          s.gradient[3 * p + v] = t.c[1 + v];
+          norm2 += t.c[1 + v] * t.c[1 + v];
+        }
+        s.gradient_norm[p] = std::sqrt(norm2);
+        for (int k = 2; k <= K; ++k) {
+          DerivativeArray& d = s.higher[k - 2];
+          const std::size_t m = d.components.size();
+          for (std::size_t c = 0; c < m; ++c) d.values[p * m + c] = t.derivative_at(positions[k][c]);
+        }
+      },
+      progress);
+  return s;
+}
+
+template <int N, int K = 1>
+FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progress& progress) {
+  if constexpr (K > kMaxSampleOrder) {
+    throw std::invalid_argument("order " + std::to_string(order) + " is above the maximum " +
+                                std::to_string(kMaxSampleOrder));
+  } else {
+    if (order == K) return sample<N, K>(tape, grid, progress);
+    return dispatch<N, K + 1>(tape, grid, order, progress);
+  }
+}
+
+}  // namespace
+
+FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress) {
+  if (order < 1 || order > kMaxSampleOrder)
+    throw std::invalid_argument("order must be from 1 to " + std::to_string(kMaxSampleOrder));
+  if (grid.dimension != tape.dimension()) throw std::invalid_argument("grid and tape dimensions differ");
+  if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress);
+  return dispatch<3>(tape, grid, order, progress);
+}
+
+}  // namespace sage

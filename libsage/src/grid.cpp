@@ -1,0 +1,61 @@
+#include <sage/grid.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+namespace sage {
+
+namespace {
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> parts;
+  std::string part;
+  std::istringstream in(text);
+  while (std::getline(in, part, sep)) parts.push_back(part);
+  if (!text.empty() && text.back() == sep) parts.emplace_back();
+  return parts;
+}
+
+double parse_number(const std::string& s, const std::string& what) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    throw std::invalid_argument(what + ": '" + s + "' is not a number");
+  }
+  if (used != s.size()) throw std::invalid_argument(what + ": '" + s + "' is not a number");
+  if (!std::isfinite(v)) throw std::invalid_argument(what + ": '" + s + "' is not finite");
+  return v;
+}
+}  // namespace
+
+std::array<int, 3> Grid::parse_resolution(const std::string& text, int dimension) {
+  const auto parts = split(text, 'x');
+  if (static_cast<int>(parts.size()) != dimension)
+    throw std::invalid_argument("grid '" + text + "': expected " + (dimension == 2 ? "NXxNY (e.g. 200x200)" : "NXxNYxNZ (e.g. 64x64x64)") +
+                                " for a " + std::to_string(dimension) + "D model");
+  std::array<int, 3> n{1, 1, 1};
+  for (int i = 0; i < dimension; ++i) {
+    const double v = parse_number(parts[i], "grid");
+    if (v != std::floor(v) || v < 2 || v > 100000)
+      throw std::invalid_argument("grid '" + text + "': each count must be an integer from 2 to 100000");
+    n[i] = static_cast<int>(v);
+  }
+  return n;
+}
+
+void Grid::parse_bounds(const std::string& text, int dimension, std::array<double, 3>& lo, std::array<double, 3>& hi) {
+  const auto parts = split(text, ',');
+  if (static_cast<int>(parts.size()) != 2 * dimension)
+    throw std::invalid_argument("bounds '" + text + "': expected " + std::to_string(2 * dimension) +
+                                " numbers xmin,xmax,ymin,ymax" + (dimension == 3 ? ",zmin,zmax" : ""));
+  for (int i = 0; i < dimension; ++i) {
+    lo[i] = parse_number(parts[2 * i], "bounds");
+    hi[i] = parse_number(parts[2 * i + 1], "bounds");
+    if (!(hi[i] > lo[i])) throw std::invalid_argument("bounds '" + text + "': each max must exceed its min");
+  }
+}
+
+}  // namespace sage

@@ -1,0 +1,101 @@
+#include <sage/tape.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace sage {
+
+namespace {
+std::vector<Expr> topological_order(const std::vector<Expr>& roots) {
+  std::vector<Expr> order;
+  std::unordered_map<const Node*, bool> done;  // false: on the stack, true: emitted
+  std::vector<std::pair<Expr, int>> stack;     // node, next argument to visit
+  for (const Expr& r : roots) stack.emplace_back(r, 0);
+  while (!stack.empty()) {
+    auto& [e, next] = stack.back();
+    if (next == 0 && done.count(e.id())) {
+      stack.pop_back();
+      continue;
+    }
+    done.emplace(e.id(), false);
+    if (next < arity(e.op())) {
+      Expr child = e.arg(next++);
+      if (!done.count(child.id())) stack.emplace_back(child, 0);
+      continue;
+    }
+    done[e.id()] = true;
+    order.push_back(e);
+    stack.pop_back();
+  }
+  return order;
+}
+}  // namespace
+
+Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension) {
+  if (dimension < 1 || dimension > 3) throw std::invalid_argument("tape dimension must be 1, 2 or 3");
+  const std::vector<Expr> order = topological_order(roots);
+
+  // Last reader of every node (by position in `order`); roots live forever.
+  std::unordered_map<const Node*, std::size_t> position, last_use;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    position[order[i].id()] = i;
+    for (int k = 0; k < arity(order[i].op()); ++k) last_use[order[i].arg(k).id()] = i;
+  }
+  for (const Expr& r : roots) last_use[r.id()] = order.size();
+
+  std::unordered_map<const Node*, std::uint32_t> reg;
+  std::vector<std::uint32_t> free_registers;
+  registers_ = static_cast<std::size_t>(dimension);
+  auto allocate = [&]() -> std::uint32_t {
+    if (!free_registers.empty()) {
+      const std::uint32_t r = free_registers.back();
+      free_registers.pop_back();
+      return r;
+    }
+    return static_cast<std::uint32_t>(registers_++);
+  };
+
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Expr& e = order[i];
+    switch (e.op()) {
+      case Op::VarX:
+      case Op::VarY:
+      case Op::VarZ: {
+        const int v = static_cast<int>(e.op()) - static_cast<int>(Op::VarX);
+        if (v >= dimension)
+          throw std::invalid_argument("the expression uses variable " + std::string(op_name(e.op())) +
+                                      " but the model is " + std::to_string(dimension) + "D");
+        reg[e.id()] = variable_register(v);
+        continue;
+      }
+      case Op::Const: {
+        const auto r = static_cast<std::uint32_t>(registers_++);  // never reused
+        constants_.emplace_back(r, e.constant_value());
+        reg[e.id()] = r;
+        continue;
+      }
+      default:
+        break;
+    }
+    Instruction ins{e.op(), 0, 0, 0, e.param(0), e.param(1)};
+    if (arity(e.op()) >= 1) ins.a = reg.at(e.arg(0).id());
+    if (arity(e.op()) >= 2) ins.b = reg.at(e.arg(1).id());
+    // Free the arguments whose last reader is this instruction, then
+    // allocate the output: it may take an argument's register, which is
+    // safe because every evaluator reads its arguments before writing.
+    for (int k = 0; k < arity(e.op()); ++k) {
+      const Expr arg = e.arg(k);
+      const bool duplicate = k == 1 && arg.id() == e.arg(0).id();
+      const Op aop = arg.op();
+      const bool fixed = aop == Op::Const || aop == Op::VarX || aop == Op::VarY || aop == Op::VarZ;
+      if (!duplicate && !fixed && last_use.at(arg.id()) == i) free_registers.push_back(reg.at(arg.id()));
+    }
+    ins.out = allocate();
+    reg[e.id()] = ins.out;
+    code_.push_back(ins);
+  }
+  for (const Expr& r : roots) results_.push_back(reg.at(r.id()));
+}
+
+}  // namespace sage

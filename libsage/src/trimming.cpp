@@ -1,0 +1,55 @@
+#include <sage/derivative.hpp>
+#include <sage/normalize.hpp>
+#include <sage/trimming.hpp>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sage {
+
+TrimMethod parse_trim_method(const std::string& text) {
+  if (text == "simple") return TrimMethod::Simple;
+  if (text == "normalized") return TrimMethod::Normalized;
+  if (text == "smooth") return TrimMethod::Smooth;
+  throw std::invalid_argument("unknown trimming method '" + text + "' (expected simple, normalized or smooth)");
+}
+
+Expr trim_simple(const Expr& h, const Expr& t, const RSystem& system) {
+  return sqrt(clamp_nonneg(-r_and(-square(h), t, system)));
+}
+
+Expr trim_normalized(const Expr& h, const Expr& t) {
+  return sqrt(square(h) + square((abs(t) - t) * 0.5));
+}
+
+Expr trim_smooth(const Expr& h, const Expr& t) {
+  return sqrt(square(h) + square((sqrt(square(t) + pow_int(h, 4)) - t) * 0.5));
+}
+
+Expr orthogonalize(const Expr& h, const Expr& t, int dimension) {
+  const auto gh = gradient(h, dimension);
+  const auto gt = gradient(t, dimension);
+  Expr dot = 0.0;
+  for (int i = 0; i < dimension; ++i) dot += gh[i] * gt[i];
+  return normalize(t - h * dot, dimension);
+}
+
+Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& b, TrimMethod method,
+                   const RSystem& system) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1];
+  const double length = std::hypot(dx, dy);
+  if (!(length > 0)) throw std::invalid_argument("segment of zero length");
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr h = ((x - a[0]) * (-dy / length)) + ((y - a[1]) * (dx / length));
+  const double cx = 0.5 * (a[0] + b[0]), cy = 0.5 * (a[1] + b[1]);
+  const Expr t = (0.25 * length * length - square(x - cx) - square(y - cy)) / length;
+  switch (method) {
+    case TrimMethod::Simple: return trim_simple(h, t, system);
+    case TrimMethod::Normalized: return trim_normalized(h, t);
+    case TrimMethod::Smooth: return trim_smooth(h, t);
+  }
+  return trim_smooth(h, t);
+}
+
+}  // namespace sage
