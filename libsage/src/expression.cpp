@@ -12,8 +12,8 @@ Node::~Node() {
   // Move uniquely owned children onto a heap stack before they die, so the
   // recursion depth of destruction stays 1 whatever the depth of the graph.
   std::vector<std::shared_ptr<const Node>> pending;
-  auto adopt = [&pending](std::array<std::shared_ptr<const Node>, 2>& args) {
-    for (auto& a : args)
+  auto adopt = [&pending](std::array<std::shared_ptr<const Node>, 2>& children) {
+    for (auto& a : children)
       if (a && a.use_count() == 1) pending.push_back(std::move(a));
   };
   adopt(const_cast<Node*>(this)->args);

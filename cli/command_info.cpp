@@ -1,0 +1,63 @@
+// sage info MODEL [--rfunction r0]: what a model holds, without sampling it.
+
+#include "commands.hpp"
+#include "field_job.hpp"
+
+#include <sage/evaluator.hpp>
+#include <sage/tape.hpp>
+
+#include <boost/program_options.hpp>
+
+#include <iostream>
+
+namespace po = boost::program_options;
+
+namespace sage::cli {
+
+int run_info(const std::vector<std::string>& args) {
+  std::string model_path, rfunction;
+  po::options_description options("Usage: sage info MODEL [options]\nPrints a summary of a model.\n\nOptions");
+  options.add_options()("help,h", "show this help")("rfunction", po::value(&rfunction),
+                                                    "default R-function (as for sage field)");
+  po::options_description hidden;
+  hidden.add_options()("model", po::value(&model_path)->required());
+  po::options_description all;
+  all.add(options).add(hidden);
+  po::positional_options_description positional;
+  positional.add("model", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::cout << options << "\n";
+    return 0;
+  }
+  po::notify(vm);
+
+  const geometry::Model model =
+      load_model(model_path, vm.count("rfunction") ? std::optional<std::string>(rfunction) : std::nullopt);
+  const Tape tape(model.field, model.dimension);
+  std::cout << "model:       " << model_path << (model.name.empty() ? "" : " (" + model.name + ")") << "\n"
+            << "dimension:   " << model.dimension << "\n"
+            << "R-function:  " << model.rfunction.name() << " (default for operators)\n"
+            << "primitives:  " << model.primitives.size() << "\n";
+  for (const auto& p : model.primitives)
+    std::cout << "  " << p.type << (p.name.empty() ? "" : " \"" + p.name + "\"") << " at " << p.pointer << "\n";
+  std::cout << "expression:  " << model.field.node_count() << " nodes, tape of " << tape.code().size()
+            << " instructions over " << tape.register_count() << " registers\n";
+  if (model.bounds) {
+    const auto& b = *model.bounds;
+    std::cout << "bounds:      [" << b.min[0] << ", " << b.max[0] << "] x [" << b.min[1] << ", " << b.max[1] << "]";
+    if (model.dimension == 3) std::cout << " x [" << b.min[2] << ", " << b.max[2] << "]";
+    std::cout << "\n";
+    Interval box[3] = {{b.min[0], b.max[0]}, {b.min[1], b.max[1]}, {b.min[2], b.max[2]}};
+    Evaluator<Interval> eval(tape);
+    eval.evaluate_with(box);
+    std::cout << "omega range: within [" << eval.result().lo << ", " << eval.result().hi
+              << "] over the bounds (interval arithmetic)\n";
+  } else {
+    std::cout << "bounds:      none in the model (sage field needs --bounds)\n";
+  }
+  return 0;
+}
+
+}  // namespace sage::cli

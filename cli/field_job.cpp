@@ -1,0 +1,91 @@
+#include "field_job.hpp"
+
+#include "commands.hpp"
+#include "progress.hpp"
+
+#include <sage/field_samples.hpp>
+#include <sage/output/vtk_writer.hpp>
+#include <sage/tape.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace sage::cli {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction) {
+  geometry::ModelOptions options;
+  if (rfunction) {
+    try {
+      options.rfunction = RSystem::parse(*rfunction);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{std::string("--rfunction: ") + e.what()};
+    }
+  }
+  return geometry::read_model(path, options);
+}
+
+Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
+              const std::optional<std::string>& bounds) {
+  Grid grid;
+  grid.dimension = model.dimension;
+  try {
+    grid.points = resolution ? Grid::parse_resolution(*resolution, model.dimension)
+                             : (model.dimension == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64});
+    if (bounds) {
+      Grid::parse_bounds(*bounds, model.dimension, grid.lo, grid.hi);
+    } else if (model.bounds) {
+      grid.lo = model.bounds->min;
+      grid.hi = model.bounds->max;
+    } else {
+      throw UsageError{model.source + " has no \"bounds\": give --bounds xmin,xmax,ymin,ymax" +
+                       (model.dimension == 3 ? ",zmin,zmax" : "")};
+    }
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{e.what()};
+  }
+  if (model.dimension == 2) grid.lo[2] = grid.hi[2] = 0.0;
+  return grid;
+}
+
+FieldReport run_field_job(const FieldJob& job) {
+  if (!output::is_supported_field_path(job.output_path))
+    throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
+  if (job.order < 1 || job.order > kMaxSampleOrder)
+    throw UsageError{"--order must be from 1 to " + std::to_string(kMaxSampleOrder)};
+  const geometry::Model model = load_model(job.model_path, job.rfunction);
+  FieldReport report;
+  report.grid = grid_for(model, job.grid, job.bounds);
+
+  auto start = std::chrono::steady_clock::now();
+  const Tape tape(model.field, model.dimension);
+  report.instructions = tape.code().size();
+  const FieldSamples samples = sample_field(tape, report.grid, job.order,
+                                            job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{});
+  report.seconds_sampling = seconds_since(start);
+  const auto [lo, hi] = std::minmax_element(samples.omega.begin(), samples.omega.end());
+  report.omega_min = *lo;
+  report.omega_max = *hi;
+  for (std::size_t i = 0; i < samples.omega.size(); ++i)
+    if (!std::isfinite(samples.omega[i]) || !std::isfinite(samples.gradient_norm[i])) {
+      const auto p = report.grid.point(i);
+      throw std::runtime_error(job.model_path + ": the field or its gradient is not finite at grid point (" +
+                               std::to_string(p[0]) + ", " + std::to_string(p[1]) +
+                               (model.dimension == 3 ? ", " + std::to_string(p[2]) : std::string()) +
+                               "): a pole, or a formula outside its domain (sqrt or log of a negative number)");
+    }
+
+  start = std::chrono::steady_clock::now();
+  output::write_field(job.output_path, samples);
+  report.seconds_writing = seconds_since(start);
+  return report;
+}
+
+}  // namespace sage::cli

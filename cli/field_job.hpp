@@ -1,0 +1,40 @@
+#pragma once
+// One field job: read a model, sample its field on a grid, write a VTK
+// file. Shared by `sage field` and `sage demo`.
+
+#include <sage/geometry/csg_model.hpp>
+#include <sage/grid.hpp>
+
+#include <optional>
+#include <string>
+
+namespace sage::cli {
+
+struct FieldJob {
+  std::string model_path;
+  std::string output_path;
+  std::optional<std::string> grid;       // "200x200" / "64x64x64"
+  std::optional<std::string> bounds;     // "xmin,xmax,ymin,ymax[,zmin,zmax]"
+  std::optional<std::string> rfunction;  // overrides the model's default
+  int order = 1;
+  bool show_progress = true;
+};
+
+struct FieldReport {
+  Grid grid;
+  std::size_t instructions = 0;
+  double omega_min = 0, omega_max = 0;
+  double seconds_sampling = 0, seconds_writing = 0;
+};
+
+/// Reads the model with the job's options (throws ModelError).
+geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction);
+
+/// The grid for a model: --grid / --bounds when given, else the model's
+/// bounds and a default resolution (200x200 or 64x64x64).
+Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
+              const std::optional<std::string>& bounds);
+
+FieldReport run_field_job(const FieldJob& job);
+
+}  // namespace sage::cli

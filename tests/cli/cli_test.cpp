@@ -1,0 +1,174 @@
+// The `sage` program end to end: it runs as a user runs it, and files it
+// writes load in VTK with the named arrays and the right values. Bad input
+// gives a message naming the file and place, and a non-zero exit.
+
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+Result run(const std::string& args) {
+  const std::string command = std::string(SAGE_EXECUTABLE) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return {-1, "popen failed"};
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / "sage_cli_test";
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const fs::path p = scratch(name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string model(const std::string& name) { return std::string(SAGE_SOURCE_DIR) + "/examples/models/" + name; }
+
+TEST(Cli, HelpAndVersion) {
+  const Result help = run("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("field"), std::string::npos);
+  const Result version = run("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.output.rfind("sage ", 0), 0u);
+  EXPECT_EQ(run("field --help").exit_code, 0);
+}
+
+TEST(Cli, FieldRoundTripThroughVtk) {
+  // A disk of radius 0.5 centred at (0.25, 0): omega = (r^2 - |p - c|^2) / (2 r).
+  const std::string m = write_file("disk.json", R"({"dimension": 2,
+      "field": {"primitive": "disk", "center": [0.25, 0], "radius": 0.5}})");
+  const fs::path out = scratch("disk.vtu");
+  const Result r = run("field " + m + " -o " + out.string() + " --grid 21x11 --bounds -1,1,-0.5,0.5 --order 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  ASSERT_EQ(g->GetNumberOfPoints(), 21 * 11);
+  vtkDataArray* omega = g->GetPointData()->GetArray("omega");
+  vtkDataArray* grad = g->GetPointData()->GetArray("grad_omega");
+  vtkDataArray* norm = g->GetPointData()->GetArray("grad_norm");
+  vtkDataArray* d2 = g->GetPointData()->GetArray("d2_omega");
+  ASSERT_TRUE(omega && grad && norm && d2);
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i) {
+    double p[3];
+    g->GetPoint(i, p);
+    const double dx = p[0] - 0.25, dy = p[1];
+    EXPECT_NEAR(omega->GetTuple1(i), (0.25 - dx * dx - dy * dy) / 1.0, 1e-12);
+    EXPECT_NEAR(grad->GetComponent(i, 0), -2 * dx, 1e-12);
+    EXPECT_NEAR(grad->GetComponent(i, 1), -2 * dy, 1e-12);
+    EXPECT_NEAR(norm->GetTuple1(i), 2 * std::hypot(dx, dy), 1e-12);
+    EXPECT_NEAR(d2->GetComponent(i, 0), -2.0, 1e-12);
+  }
+}
+
+TEST(Cli, FieldWritesImageDataFor3D) {
+  const fs::path out = scratch("torus.vti");
+  const Result r = run("field " + model("primitives_3d.json") + " -o " + out.string() + " --grid 8x8x8 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(out), 0u);
+}
+
+TEST(Cli, InfoSummarizesAModel) {
+  const Result r = run("info " + model("paper004_fig9_solid.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dimension:   3"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"cone\""), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("omega range"), std::string::npos) << r.output;
+}
+
+TEST(Cli, DemoWritesEveryFile) {
+  const fs::path dir = scratch("demo");
+  fs::remove_all(dir);
+  const Result r = run("demo -o " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
+  EXPECT_GE(files, 10);
+}
+
+// ---- bad input: message names the file and place, exit code non-zero ----------
+
+void expect_failure(const std::string& args, std::initializer_list<std::string> pieces) {
+  const Result r = run(args);
+  EXPECT_NE(r.exit_code, 0) << args << "\n" << r.output;
+  EXPECT_LT(r.exit_code, 128) << "crashed: " << r.output;
+  for (const auto& piece : pieces) EXPECT_NE(r.output.find(piece), std::string::npos) << "'" << piece << "' not in: " << r.output;
+}
+
+TEST(CliErrors, MalformedModel) {
+  const std::string m = write_file("broken.json", "{\"dimension\": 2,\n \"field\": {\"formula\": }\n}");
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string(), {"broken.json", "line 2", "malformed JSON"});
+}
+
+TEST(CliErrors, UnknownPrimitive) {
+  const std::string m = write_file("blob.json", R"({"dimension": 2, "field": {"primitive": "blob"}})");
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds 0,1,0,1", {"blob.json", "/field/primitive"});
+}
+
+TEST(CliErrors, UnknownOptionAndMissingOutput) {
+  expect_failure("field " + model("plate_with_holes.json") + " -o x.vtu --colour red", {"colour"});
+  expect_failure("field " + model("plate_with_holes.json"), {"output"});
+  expect_failure("frobnicate", {"unknown command"});
+}
+
+TEST(CliErrors, BadOptionValues) {
+  const std::string m = model("plate_with_holes.json");
+  const std::string out = " -o " + scratch("x.vtu").string();
+  expect_failure("field " + m + out + " --grid 20x", {"grid"});
+  expect_failure("field " + m + out + " --grid 20x20x20", {"2D"});
+  expect_failure("field " + m + out + " --bounds 1,0,0,1", {"max must exceed"});
+  expect_failure("field " + m + out + " --bounds 0,nan,0,1", {"bounds"});
+  expect_failure("field " + m + out + " --order 9", {"--order"});
+  expect_failure("field " + m + out + " --rfunction rp:5", {"--rfunction", "even"});
+  expect_failure("field " + m + " -o " + scratch("x.png").string(), {".vtu or .vti"});
+}
+
+TEST(CliErrors, UnwritableOutput) {
+  expect_failure("field " + model("plate_with_holes.json") + " -o /nonexistent-folder/x.vtu -q",
+                 {"/nonexistent-folder/x.vtu"});
+}
+
+TEST(CliErrors, MissingModelFileAndBounds) {
+  expect_failure("field /nonexistent/m.json -o " + scratch("x.vtu").string(), {"/nonexistent/m.json"});
+  const std::string m = write_file("nobounds.json", R"({"dimension": 2, "field": {"formula": "x"}})");
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string(), {"nobounds.json", "--bounds"});
+}
+
+TEST(CliErrors, FieldOutsideItsDomainIsReportedNotWritten) {
+  const std::string m = write_file("log.json", R"js({"dimension": 2, "field": {"formula": "log(x)"}})js");
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds -1,1,-1,1 -q", {"log.json", "not finite"});
+}
+
+}  // namespace
