@@ -65,7 +65,8 @@ int run_demo(const std::vector<std::string>& args) {
       "Writes fields of the bundled example models (paper 004 figures 9, 12 and 13,\n"
       "a 2D plate under four R-function systems, 3D primitives, a normalized\n"
       "formula) as .vtu files for ParaView.\n\nOptions");
-  options.add_options()("help,h", "show this help")("output,o", po::value(&out_dir), "output folder (default sage-demo)");
+  options.add_options()("help,h", "show this help")("output,o", po::value(&out_dir),
+                                                    "output folder (default sage-demo)");
   po::variables_map vm;
   po::store(po::command_line_parser(args).options(options).run(), vm);
   if (vm.count("help")) {

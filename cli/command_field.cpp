@@ -19,15 +19,14 @@ int run_field(const std::vector<std::string>& args) {
       "Samples the model's field and its derivatives on a regular grid and writes\n"
       "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2).\n\n"
       "Options");
-  options.add_options()
-      ("help,h", "show this help")
-      ("output,o", po::value(&job.output_path)->required(), "output file, .vtu or .vti")
-      ("grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)")
-      ("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")")
-      ("order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)")
-      ("rfunction", po::value(&rfunction),
-       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)")
-      ("quiet,q", "no progress or summary");
+  options.add_options()("help,h", "show this help")("output,o", po::value(&job.output_path)->required(),
+                                                    "output file, .vtu or .vti")(
+      "grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)")(
+      "bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")")(
+      "order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)")(
+      "rfunction", po::value(&rfunction),
+      "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)")("quiet,q",
+                                                                                      "no progress or summary");
   po::options_description hidden;
   hidden.add_options()("model", po::value(&job.model_path)->required());
   po::options_description all;
@@ -50,12 +49,11 @@ int run_field(const std::vector<std::string>& args) {
 
   const FieldReport r = run_field_job(job);
   if (!quiet) {
-    std::cout << "wrote " << job.output_path << ": " << r.grid.size() << " points ("
-              << r.grid.points[0] << "x" << r.grid.points[1];
+    std::cout << "wrote " << job.output_path << ": " << r.grid.size() << " points (" << r.grid.points[0] << "x"
+              << r.grid.points[1];
     if (r.grid.dimension == 3) std::cout << "x" << r.grid.points[2];
     std::cout << "), omega in [" << r.omega_min << ", " << r.omega_max << "], " << r.instructions
-              << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing
-              << " s\n";
+              << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s\n";
   }
   return 0;
 }

@@ -37,8 +37,9 @@ Grid grid_for(const geometry::Model& model, const std::optional<std::string>& re
   Grid grid;
   grid.dimension = model.dimension;
   try {
-    grid.points = resolution ? Grid::parse_resolution(*resolution, model.dimension)
-                             : (model.dimension == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64});
+    grid.points = resolution
+                      ? Grid::parse_resolution(*resolution, model.dimension)
+                      : (model.dimension == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64});
     if (bounds) {
       Grid::parse_bounds(*bounds, model.dimension, grid.lo, grid.hi);
     } else if (model.bounds) {
@@ -67,8 +68,8 @@ FieldReport run_field_job(const FieldJob& job) {
   auto start = std::chrono::steady_clock::now();
   const Tape tape(model.field, model.dimension);
   report.instructions = tape.code().size();
-  const FieldSamples samples = sample_field(tape, report.grid, job.order,
-                                            job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{});
+  const FieldSamples samples = sample_field(
+      tape, report.grid, job.order, job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{});
   report.seconds_sampling = seconds_since(start);
   const auto [lo, hi] = std::minmax_element(samples.omega.begin(), samples.omega.end());
   report.omega_min = *lo;

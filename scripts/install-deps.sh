@@ -13,6 +13,7 @@ packages=(
   libgdal-dev                # GIS readers
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev           # bench/
+  clang-format               # format check in CI
 )
 
 missing=()

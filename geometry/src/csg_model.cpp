@@ -48,10 +48,9 @@ class Reader {
     const double d = number_at(top, "dimension", "");
     if (d != 2 && d != 3) fail("/dimension", "must be 2 or 3");
     model_.dimension = static_cast<int>(d);
-    model_.rfunction = options_.rfunction ? *options_.rfunction
-                       : top.contains("rfunction")
-                           ? rsystem(string_at(top, "rfunction", ""), "/rfunction")
-                           : RSystem::r0();
+    model_.rfunction = options_.rfunction          ? *options_.rfunction
+                       : top.contains("rfunction") ? rsystem(string_at(top, "rfunction", ""), "/rfunction")
+                                                   : RSystem::r0();
     if (top.contains("bounds")) model_.bounds = bounds(top["bounds"], "/bounds");
     if (!top.contains("field")) fail("", "missing \"field\" (the root node)");
     model_.field = node(top["field"], "/field");
@@ -118,11 +117,16 @@ class Reader {
   Expr node(const Json& j, const std::string& at) {
     if (!j.is_object()) fail(at, "a node must be a JSON object");
     Expr e;
-    if (j.contains("primitive")) e = primitive(j, at);
-    else if (j.contains("formula")) e = formula(j, at);
-    else if (j.contains("op")) e = operation(j, at);
-    else if (j.contains("ref")) e = reference(j, at);
-    else fail(at, "a node needs one of \"primitive\", \"formula\", \"op\" or \"ref\"");
+    if (j.contains("primitive"))
+      e = primitive(j, at);
+    else if (j.contains("formula"))
+      e = formula(j, at);
+    else if (j.contains("op"))
+      e = operation(j, at);
+    else if (j.contains("ref"))
+      e = reference(j, at);
+    else
+      fail(at, "a node needs one of \"primitive\", \"formula\", \"op\" or \"ref\"");
     if (j.contains("name")) {
       const std::string name = string_at(j, "name", at);
       if (model_.named.count(name)) fail(at + "/name", "the name \"" + name + "\" is used twice");
@@ -146,7 +150,8 @@ class Reader {
       all.insert(all.end(), k);
       const std::set<std::string> allowed(all.begin(), all.end());
       for (const auto& [key, value] : j.items())
-        if (!allowed.count(key)) fail(at + "/" + key, "unknown parameter \"" + key + "\" for primitive \"" + type + "\"");
+        if (!allowed.count(key))
+          fail(at + "/" + key, "unknown parameter \"" + key + "\" for primitive \"" + type + "\"");
     };
     model_.primitives.push_back({j.contains("name") ? string_at(j, "name", at) : "", type, at});
     try {
@@ -174,8 +179,8 @@ class Reader {
       if (type == "capped_cylinder") {
         need_3d();
         keys({"base", "axis", "radius", "height"});
-        return capped_cylinder(vector_at(j, "base", at, 3), vector_at(j, "axis", at, 3),
-                               positive_at(j, "radius", at), positive_at(j, "height", at), node_rsystem(j, at));
+        return capped_cylinder(vector_at(j, "base", at, 3), vector_at(j, "axis", at, 3), positive_at(j, "radius", at),
+                               positive_at(j, "height", at), node_rsystem(j, at));
       }
       if (type == "cone") {
         need_3d();
@@ -219,10 +224,11 @@ class Reader {
     const Json& args = j["args"];
     if (args.size() < min_count || args.size() > max_count) {
       const std::string range = min_count == max_count ? std::to_string(min_count)
-                                : max_count == SIZE_MAX ? "at least " + std::to_string(min_count)
-                                                        : std::to_string(min_count) + " to " + std::to_string(max_count);
-      fail(at + "/args", "expected " + range + " argument" + (max_count == 1 ? "" : "s") + ", found " +
-                             std::to_string(args.size()));
+                                : max_count == SIZE_MAX
+                                    ? "at least " + std::to_string(min_count)
+                                    : std::to_string(min_count) + " to " + std::to_string(max_count);
+      fail(at + "/args",
+           "expected " + range + " argument" + (max_count == 1 ? "" : "s") + ", found " + std::to_string(args.size()));
     }
     std::vector<Expr> out;
     for (std::size_t i = 0; i < args.size(); ++i) out.push_back(node(args[i], at + "/args/" + std::to_string(i)));
@@ -244,8 +250,8 @@ class Reader {
     }
     if (op == "complement") return -arguments(j, at, 1, 1)[0];
     if (op == "normalize") return normalize(arguments(j, at, 1, 1)[0], model_.dimension);
-    fail(at + "/op", "unknown operator \"" + op +
-                         "\" (known: union, intersection, difference, complement, normalize, trim)");
+    fail(at + "/op",
+         "unknown operator \"" + op + "\" (known: union, intersection, difference, complement, normalize, trim)");
   }
 
   Expr trim(const Json& j, const std::string& at) {
@@ -298,8 +304,8 @@ Model parse_model(const std::string& text, const std::string& source, const Mode
     // e.what() repeats the position in bytes; keep only its description.
     std::string what = e.what();
     const auto colon = what.rfind(": ");
-    throw ModelError(source + ": " + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) + ": malformed JSON: " +
-                     (colon == std::string::npos ? what : what.substr(colon + 2)));
+    throw ModelError(source + ": " + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
+                     ": malformed JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   } catch (const Json::out_of_range& e) {
     // A number too large for a double ("1e999"): the message quotes it.
     const std::string what = e.what();

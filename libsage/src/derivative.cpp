@@ -62,55 +62,33 @@ class Differentiator {
     const Expr u = n >= 1 ? f.arg(0) : Expr();
     const Expr v = n >= 2 ? f.arg(1) : Expr();
     switch (f.op()) {
-      case Op::Const:
-        return 0.0;
-      case Op::VarX:
-        return var_ == 0 ? 1.0 : 0.0;
-      case Op::VarY:
-        return var_ == 1 ? 1.0 : 0.0;
-      case Op::VarZ:
-        return var_ == 2 ? 1.0 : 0.0;
-      case Op::Neg:
-        return -d(u);
-      case Op::Square:
-        return 2.0 * u * d(u);
-      case Op::Sqrt:
-        return div_safe(d(u), 2.0 * f);
-      case Op::Exp:
-        return f * d(u);
-      case Op::Log:
-        return d(u) / u;
-      case Op::Sin:
-        return cos(u) * d(u);
-      case Op::Cos:
-        return -(sin(u) * d(u));
-      case Op::Abs:
-        return (2.0 * step(u) - 1.0) * d(u);
-      case Op::Step:
-        return 0.0;
+      case Op::Const: return 0.0;
+      case Op::VarX: return var_ == 0 ? 1.0 : 0.0;
+      case Op::VarY: return var_ == 1 ? 1.0 : 0.0;
+      case Op::VarZ: return var_ == 2 ? 1.0 : 0.0;
+      case Op::Neg: return -d(u);
+      case Op::Square: return 2.0 * u * d(u);
+      case Op::Sqrt: return div_safe(d(u), 2.0 * f);
+      case Op::Exp: return f * d(u);
+      case Op::Log: return d(u) / u;
+      case Op::Sin: return cos(u) * d(u);
+      case Op::Cos: return -(sin(u) * d(u));
+      case Op::Abs: return (2.0 * step(u) - 1.0) * d(u);
+      case Op::Step: return 0.0;
       case Op::PowInt: {
         const int k = static_cast<int>(f.param(0));
         return static_cast<double>(k) * pow_int(u, k - 1) * d(u);
       }
-      case Op::PowReal:
-        return f.param(0) * div_safe(f * d(u), u);
-      case Op::Add:
-        return d(u) + d(v);
-      case Op::Sub:
-        return d(u) - d(v);
-      case Op::Mul:
-        return d(u) * v + u * d(v);
-      case Op::Div:
-        return (d(u) - f * d(v)) / v;
-      case Op::DivSafe:
-        return div_safe(d(u) - f * d(v), v);
-      case Op::Min:
-        return d(u) + step(u - v) * (d(v) - d(u));
-      case Op::Max:
-        return d(u) + step(v - u) * (d(v) - d(u));
+      case Op::PowReal: return f.param(0) * div_safe(f * d(u), u);
+      case Op::Add: return d(u) + d(v);
+      case Op::Sub: return d(u) - d(v);
+      case Op::Mul: return d(u) * v + u * d(v);
+      case Op::Div: return (d(u) - f * d(v)) / v;
+      case Op::DivSafe: return div_safe(d(u) - f * d(v), v);
+      case Op::Min: return d(u) + step(u - v) * (d(v) - d(u));
+      case Op::Max: return d(u) + step(v - u) * (d(v) - d(u));
       case Op::RAnd:
-      case Op::ROr:
-        return d(expansion(f));
+      case Op::ROr: return d(expansion(f));
     }
     throw std::logic_error("derivative: unknown operation");
   }

@@ -25,8 +25,8 @@ Node::~Node() {
 }
 
 namespace {
-std::shared_ptr<const Node> new_node(Op op, std::shared_ptr<const Node> a, std::shared_ptr<const Node> b,
-                                     double p0, double p1) {
+std::shared_ptr<const Node> new_node(Op op, std::shared_ptr<const Node> a, std::shared_ptr<const Node> b, double p0,
+                                     double p1) {
   auto n = std::make_shared<Node>();
   n->op = op;
   n->args = {std::move(a), std::move(b)};
@@ -83,37 +83,21 @@ std::size_t Expr::node_count() const {
 std::string Expr::to_string() const {
   std::ostringstream out;
   switch (op()) {
-    case Op::Const:
-      out << constant_value();
-      break;
+    case Op::Const: out << constant_value(); break;
     case Op::VarX:
     case Op::VarY:
-    case Op::VarZ:
-      out << op_name(op());
-      break;
-    case Op::Add:
-      out << "(" << arg(0).to_string() << " + " << arg(1).to_string() << ")";
-      break;
-    case Op::Sub:
-      out << "(" << arg(0).to_string() << " - " << arg(1).to_string() << ")";
-      break;
-    case Op::Mul:
-      out << "(" << arg(0).to_string() << " * " << arg(1).to_string() << ")";
-      break;
-    case Op::Div:
-      out << "(" << arg(0).to_string() << " / " << arg(1).to_string() << ")";
-      break;
-    case Op::Neg:
-      out << "-" << arg(0).to_string();
-      break;
+    case Op::VarZ: out << op_name(op()); break;
+    case Op::Add: out << "(" << arg(0).to_string() << " + " << arg(1).to_string() << ")"; break;
+    case Op::Sub: out << "(" << arg(0).to_string() << " - " << arg(1).to_string() << ")"; break;
+    case Op::Mul: out << "(" << arg(0).to_string() << " * " << arg(1).to_string() << ")"; break;
+    case Op::Div: out << "(" << arg(0).to_string() << " / " << arg(1).to_string() << ")"; break;
+    case Op::Neg: out << "-" << arg(0).to_string(); break;
     case Op::PowInt:
-    case Op::PowReal:
-      out << arg(0).to_string() << "^" << param(0);
-      break;
+    case Op::PowReal: out << arg(0).to_string() << "^" << param(0); break;
     case Op::RAnd:
     case Op::ROr:
-      out << op_name(op()) << "[" << rsystem().name() << "](" << arg(0).to_string() << ", "
-          << arg(1).to_string() << ")";
+      out << op_name(op()) << "[" << rsystem().name() << "](" << arg(0).to_string() << ", " << arg(1).to_string()
+          << ")";
       break;
     default:
       out << op_name(op()) << "(" << arg(0).to_string();
@@ -171,26 +155,44 @@ Expr unary(Op op, const Expr& a, F fold, double p0 = 0.0) {
 }
 }  // namespace
 
-Expr square(const Expr& a) { return unary(Op::Square, a, [](double v) { return v * v; }); }
-Expr sqrt(const Expr& a) { return unary(Op::Sqrt, a, [](double v) { return std::sqrt(v); }); }
-Expr exp(const Expr& a) { return unary(Op::Exp, a, [](double v) { return std::exp(v); }); }
-Expr log(const Expr& a) { return unary(Op::Log, a, [](double v) { return std::log(v); }); }
-Expr sin(const Expr& a) { return unary(Op::Sin, a, [](double v) { return std::sin(v); }); }
-Expr cos(const Expr& a) { return unary(Op::Cos, a, [](double v) { return std::cos(v); }); }
-Expr abs(const Expr& a) { return unary(Op::Abs, a, [](double v) { return std::abs(v); }); }
-Expr step(const Expr& a) { return unary(Op::Step, a, [](double v) { return sage::step(v); }); }
+Expr square(const Expr& a) {
+  return unary(Op::Square, a, [](double v) { return v * v; });
+}
+Expr sqrt(const Expr& a) {
+  return unary(Op::Sqrt, a, [](double v) { return std::sqrt(v); });
+}
+Expr exp(const Expr& a) {
+  return unary(Op::Exp, a, [](double v) { return std::exp(v); });
+}
+Expr log(const Expr& a) {
+  return unary(Op::Log, a, [](double v) { return std::log(v); });
+}
+Expr sin(const Expr& a) {
+  return unary(Op::Sin, a, [](double v) { return std::sin(v); });
+}
+Expr cos(const Expr& a) {
+  return unary(Op::Cos, a, [](double v) { return std::cos(v); });
+}
+Expr abs(const Expr& a) {
+  return unary(Op::Abs, a, [](double v) { return std::abs(v); });
+}
+Expr step(const Expr& a) {
+  return unary(Op::Step, a, [](double v) { return sage::step(v); });
+}
 
 Expr pow_int(const Expr& a, int n) {
   if (n == 0) return 1.0;
   if (n == 1) return a;
   if (n == 2) return square(a);
-  return unary(Op::PowInt, a, [n](double v) { return sage::pow_int(v, n); }, n);
+  return unary(
+      Op::PowInt, a, [n](double v) { return sage::pow_int(v, n); }, n);
 }
 
 Expr pow_real(const Expr& a, double r) {
   if (r == std::floor(r) && std::abs(r) <= 1024) return pow_int(a, static_cast<int>(r));
   if (r == 0.5) return sqrt(a);
-  return unary(Op::PowReal, a, [r](double v) { return std::pow(v, r); }, r);
+  return unary(
+      Op::PowReal, a, [r](double v) { return std::pow(v, r); }, r);
 }
 
 Expr div_safe(const Expr& a, const Expr& b) {

@@ -47,18 +47,24 @@ class Parser {
   Expr sum() {
     Expr e = product();
     for (;;) {
-      if (accept('+')) e = e + product();
-      else if (accept('-')) e = e - product();
-      else return e;
+      if (accept('+'))
+        e = e + product();
+      else if (accept('-'))
+        e = e - product();
+      else
+        return e;
     }
   }
 
   Expr product() {
     Expr e = unary();
     for (;;) {
-      if (accept('*')) e = e * unary();
-      else if (accept('/')) e = e / unary();
-      else return e;
+      if (accept('*'))
+        e = e * unary();
+      else if (accept('/'))
+        e = e / unary();
+      else
+        return e;
     }
   }
 
@@ -108,8 +114,7 @@ class Parser {
 
   Expr name() {
     const std::size_t start = pos_;
-    while (pos_ < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_'))
-      ++pos_;
+    while (pos_ < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_')) ++pos_;
     const std::string id = text_.substr(start, pos_ - start);
     if (accept('(')) return call(id, start);
     if (id == "x") return Expr::x();

@@ -34,8 +34,9 @@ double parse_number(const std::string& s, const std::string& what) {
 std::array<int, 3> Grid::parse_resolution(const std::string& text, int dimension) {
   const auto parts = split(text, 'x');
   if (static_cast<int>(parts.size()) != dimension)
-    throw std::invalid_argument("grid '" + text + "': expected " + (dimension == 2 ? "NXxNY (e.g. 200x200)" : "NXxNYxNZ (e.g. 64x64x64)") +
-                                " for a " + std::to_string(dimension) + "D model");
+    throw std::invalid_argument("grid '" + text + "': expected " +
+                                (dimension == 2 ? "NXxNY (e.g. 200x200)" : "NXxNYxNZ (e.g. 64x64x64)") + " for a " +
+                                std::to_string(dimension) + "D model");
   std::array<int, 3> n{1, 1, 1};
   for (int i = 0; i < dimension; ++i) {
     const double v = parse_number(parts[i], "grid");

@@ -9,8 +9,6 @@ Expr gradient_norm_squared(const Expr& f, int dimension) {
   return sum;
 }
 
-Expr normalize(const Expr& f, int dimension) {
-  return f / sqrt(square(f) + gradient_norm_squared(f, dimension));
-}
+Expr normalize(const Expr& f, int dimension) { return f / sqrt(square(f) + gradient_norm_squared(f, dimension)); }
 
 }  // namespace sage

@@ -113,8 +113,7 @@ Expr box(const Vec3& min_corner, const Vec3& max_corner, int dimension, const RS
   require_dimension(dimension);
   std::vector<Expr> faces;
   for (int i = 0; i < dimension; ++i) {
-    if (!(max_corner[i] > min_corner[i]))
-      throw std::invalid_argument("box: max must exceed min in every coordinate");
+    if (!(max_corner[i] > min_corner[i])) throw std::invalid_argument("box: max must exceed min in every coordinate");
     Vec3 n{0, 0, 0};
     n[i] = -1;
     faces.push_back(halfspace(min_corner, n, dimension));

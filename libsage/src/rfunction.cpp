@@ -53,7 +53,8 @@ RSystem RSystem::parse(const std::string& text) {
   if (head == "ralpha" && has_value) {
     if (value == "var") return r_alpha_variable();
     const double a = parse_parameter(text, value);
-    if (!(a > -1.0 && a <= 1.0)) throw std::invalid_argument("R-function '" + text + "': alpha must satisfy -1 < alpha <= 1");
+    if (!(a > -1.0 && a <= 1.0))
+      throw std::invalid_argument("R-function '" + text + "': alpha must satisfy -1 < alpha <= 1");
     return r_alpha(a);
   }
   if (head == "rp" && has_value) return r_p(even_parameter(text, value, 2));

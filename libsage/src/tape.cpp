@@ -75,8 +75,7 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
         reg[e.id()] = r;
         continue;
       }
-      default:
-        break;
+      default: break;
     }
     Instruction ins{e.op(), 0, 0, 0, e.param(0), e.param(1)};
     if (arity(e.op()) >= 1) ins.a = reg.at(e.arg(0).id());

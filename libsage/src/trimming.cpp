@@ -19,9 +19,7 @@ Expr trim_simple(const Expr& h, const Expr& t, const RSystem& system) {
   return sqrt(clamp_nonneg(-r_and(-square(h), t, system)));
 }
 
-Expr trim_normalized(const Expr& h, const Expr& t) {
-  return sqrt(square(h) + square((abs(t) - t) * 0.5));
-}
+Expr trim_normalized(const Expr& h, const Expr& t) { return sqrt(square(h) + square((abs(t) - t) * 0.5)); }
 
 Expr trim_smooth(const Expr& h, const Expr& t) {
   return sqrt(square(h) + square((sqrt(square(t) + pow_int(h, 4)) - t) * 0.5));

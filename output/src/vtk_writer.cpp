@@ -42,7 +42,8 @@ void add_arrays(vtkPointData* data, const FieldSamples& s) {
   data->AddArray(make_array("grad_norm", 1, s.gradient_norm));
   for (const DerivativeArray& d : s.higher) {
     auto a = make_array("d" + std::to_string(d.order) + "_omega", static_cast<int>(d.components.size()), d.values);
-    for (std::size_t c = 0; c < d.components.size(); ++c) a->SetComponentName(static_cast<vtkIdType>(c), d.components[c].c_str());
+    for (std::size_t c = 0; c < d.components.size(); ++c)
+      a->SetComponentName(static_cast<vtkIdType>(c), d.components[c].c_str());
     data->AddArray(a);
   }
   data->SetActiveScalars("omega");
@@ -69,9 +70,8 @@ vtkNew<vtkUnstructuredGrid> unstructured(const FieldSamples& s) {
     for (vtkIdType k = 0; k + 1 < nz; ++k)
       for (vtkIdType j = 0; j + 1 < ny; ++j)
         for (vtkIdType i = 0; i + 1 < nx; ++i) {
-          const vtkIdType hex[8] = {id(i, j, k),         id(i + 1, j, k),         id(i + 1, j + 1, k),
-                                    id(i, j + 1, k),     id(i, j, k + 1),         id(i + 1, j, k + 1),
-                                    id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+          const vtkIdType hex[8] = {id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
+                                    id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
           cells->InsertNextCell(8, hex);
         }
   }

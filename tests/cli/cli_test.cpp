@@ -124,7 +124,8 @@ void expect_failure(const std::string& args, std::initializer_list<std::string> 
   const Result r = run(args);
   EXPECT_NE(r.exit_code, 0) << args << "\n" << r.output;
   EXPECT_LT(r.exit_code, 128) << "crashed: " << r.output;
-  for (const auto& piece : pieces) EXPECT_NE(r.output.find(piece), std::string::npos) << "'" << piece << "' not in: " << r.output;
+  for (const auto& piece : pieces)
+    EXPECT_NE(r.output.find(piece), std::string::npos) << "'" << piece << "' not in: " << r.output;
 }
 
 TEST(CliErrors, MalformedModel) {
@@ -134,7 +135,8 @@ TEST(CliErrors, MalformedModel) {
 
 TEST(CliErrors, UnknownPrimitive) {
   const std::string m = write_file("blob.json", R"({"dimension": 2, "field": {"primitive": "blob"}})");
-  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds 0,1,0,1", {"blob.json", "/field/primitive"});
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds 0,1,0,1",
+                 {"blob.json", "/field/primitive"});
 }
 
 TEST(CliErrors, UnknownOptionAndMissingOutput) {
@@ -168,7 +170,8 @@ TEST(CliErrors, MissingModelFileAndBounds) {
 
 TEST(CliErrors, FieldOutsideItsDomainIsReportedNotWritten) {
   const std::string m = write_file("log.json", R"js({"dimension": 2, "field": {"formula": "log(x)"}})js");
-  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds -1,1,-1,1 -q", {"log.json", "not finite"});
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds -1,1,-1,1 -q",
+                 {"log.json", "not finite"});
 }
 
 }  // namespace

@@ -31,12 +31,14 @@ void expect_error(const std::string& text, std::initializer_list<std::string> pi
   } catch (const ModelError& e) {
     const std::string what = e.what();
     EXPECT_EQ(what.rfind("bad.json: ", 0), 0u) << what;
-    for (const auto& piece : pieces) EXPECT_NE(what.find(piece), std::string::npos) << "'" << piece << "' not in: " << what;
+    for (const auto& piece : pieces)
+      EXPECT_NE(what.find(piece), std::string::npos) << "'" << piece << "' not in: " << what;
   }
 }
 
 TEST(CsgModel, DiskHasTheDistanceFieldNearItsBoundary) {
-  const Model m = parse_model(R"({"dimension": 2, "field": {"primitive": "disk", "center": [1, 2], "radius": 0.5}})", "t");
+  const Model m =
+      parse_model(R"({"dimension": 2, "field": {"primitive": "disk", "center": [1, 2], "radius": 0.5}})", "t");
   EXPECT_NEAR(value_at(m, {1, 2, 0}), 0.25, 1e-15);  // (r^2 - 0) / 2r
   EXPECT_NEAR(value_at(m, {1.5, 2, 0}), 0.0, 1e-15);
   EXPECT_LT(value_at(m, {3, 3, 0}), 0.0);
@@ -47,10 +49,11 @@ TEST(CsgModel, OperatorsFollowSetSemantics) {
     "dimension": 2, "rfunction": "r0",
     "field": {"op": "difference", "args": [
       {"primitive": "rectangle", "min": [-2, -1], "max": [2, 1]},
-      {"name": "hole", "primitive": "disk", "center": [0, 0], "radius": 0.5}]}})", "t");
-  EXPECT_GT(value_at(m, {1.5, 0, 0}), 0.0);   // plate
-  EXPECT_LT(value_at(m, {0.1, 0, 0}), 0.0);   // hole
-  EXPECT_LT(value_at(m, {3, 0, 0}), 0.0);     // outside
+      {"name": "hole", "primitive": "disk", "center": [0, 0], "radius": 0.5}]}})",
+                              "t");
+  EXPECT_GT(value_at(m, {1.5, 0, 0}), 0.0);           // plate
+  EXPECT_LT(value_at(m, {0.1, 0, 0}), 0.0);           // hole
+  EXPECT_LT(value_at(m, {3, 0, 0}), 0.0);             // outside
   EXPECT_NEAR(value_at(m, {0.5, 0, 0}), 0.0, 1e-12);  // hole boundary
   EXPECT_TRUE(m.named.count("hole"));
   ASSERT_EQ(m.primitives.size(), 2u);
@@ -69,14 +72,16 @@ TEST(CsgModel, NodeRFunctionOverridesTheDefaultAndOptionsOverrideTheModel) {
 }
 
 TEST(CsgModel, FormulaInsideNegativeFlipsTheSign) {
-  const Model m = parse_model(R"({"dimension": 3, "field": {"formula": "x^2 + y^2 + z^2 - 1", "inside": "negative"}})", "t");
+  const Model m =
+      parse_model(R"({"dimension": 3, "field": {"formula": "x^2 + y^2 + z^2 - 1", "inside": "negative"}})", "t");
   EXPECT_DOUBLE_EQ(value_at(m, {0, 0, 0}), 1.0);
 }
 
 TEST(CsgModel, RefReusesANamedNode) {
   const Model m = parse_model(R"({"dimension": 2, "field": {"op": "union", "args": [
       {"name": "a", "primitive": "disk", "center": [0, 0], "radius": 1},
-      {"ref": "a"}]}})", "t");
+      {"ref": "a"}]}})",
+                              "t");
   EXPECT_EQ(m.field.arg(0).id(), m.field.arg(1).id());
 }
 
@@ -96,7 +101,8 @@ TEST(CsgModel, EveryBundledExampleLoadsAndIsFiniteOverItsBounds) {
 }
 
 TEST(CsgModel, Figure9SolidContainsItsCoreAndExcludesTheBore) {
-  const Model m = sage::geometry::read_model(std::string(SAGE_SOURCE_DIR) + "/examples/models/paper004_fig9_solid.json");
+  const Model m =
+      sage::geometry::read_model(std::string(SAGE_SOURCE_DIR) + "/examples/models/paper004_fig9_solid.json");
   EXPECT_GT(value_at(m, {0.6, 0.0, 0.3}), 0.0);
   EXPECT_LT(value_at(m, {0.0, 0.0, 0.3}), 0.0);   // in the bore
   EXPECT_LT(value_at(m, {0.6, 0.0, -0.1}), 0.0);  // below the bottom plane
@@ -149,12 +155,14 @@ TEST(CsgModelErrors, BadFormulaNamesTheColumn) {
 
 TEST(CsgModelErrors, ThreeDimensionalPrimitiveInTwoD) {
   expect_error(R"({"dimension": 2, "field": {"primitive": "torus", "center": [0,0,0], "axis": [0,0,1],
-               "major_radius": 1, "minor_radius": 0.2}})", {"3D primitive"});
+               "major_radius": 1, "minor_radius": 0.2}})",
+               {"3D primitive"});
 }
 
 TEST(CsgModelErrors, BadRFunctionAndOperator) {
   expect_error(R"({"dimension": 2, "rfunction": "rp:3", "field": {"formula": "x"}})", {"/rfunction", "even"});
-  expect_error(R"({"dimension": 2, "field": {"op": "xor", "args": [{"formula": "x"}]}})", {"/field/op", "unknown operator"});
+  expect_error(R"({"dimension": 2, "field": {"op": "xor", "args": [{"formula": "x"}]}})",
+               {"/field/op", "unknown operator"});
   expect_error(R"({"dimension": 2, "field": {"op": "difference", "args": [{"formula": "x"}]}})",
                {"/field/args", "at least 2"});
 }
@@ -169,7 +177,8 @@ TEST(CsgModelErrors, MissingTopLevelPieces) {
 TEST(CsgModelErrors, UnknownReferenceAndDuplicateName) {
   expect_error(R"({"dimension": 2, "field": {"ref": "nothing"}})", {"/field/ref", "no node named"});
   expect_error(R"({"dimension": 2, "field": {"op": "union", "args": [
-      {"name": "a", "formula": "x"}, {"name": "a", "formula": "y"}]}})", {"/field/args/1/name", "used twice"});
+      {"name": "a", "formula": "x"}, {"name": "a", "formula": "y"}]}})",
+               {"/field/args/1/name", "used twice"});
 }
 
 TEST(CsgModelErrors, MissingFileIsNamed) {

@@ -112,7 +112,8 @@ TEST(Interval, EveryOperationOnLinearArgumentsEncloses) {
   // The same ops on u = x + y/2, v = y - x/4 + z/2: dependency widens the
   // result but never breaks the enclosure.
   std::uint64_t seed = 160;
-  for (const test::OpCase& c : test::op_cases(true)) check_enclosure(c.name, c.build(Expr::x(), Expr::y(), Expr::z()), 1.0, 20, 250, seed++);
+  for (const test::OpCase& c : test::op_cases(true))
+    check_enclosure(c.name, c.build(Expr::x(), Expr::y(), Expr::z()), 1.0, 20, 250, seed++);
 }
 
 TEST(Interval, EnclosureIsScaleRobust) {

@@ -21,7 +21,9 @@ struct Sample {
   Point inner_normal;  // unit
 };
 
-Point add(const Point& a, const Point& b, double s = 1.0) { return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]}; }
+Point add(const Point& a, const Point& b, double s = 1.0) {
+  return {a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]};
+}
 double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Point cross(const Point& a, const Point& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -89,8 +91,10 @@ TEST(Primitives, Halfspace) {
     }
     auto member = [&](const Point& q) { return dot(add(q, p0, -1), un) < 0 ? 1 : -1; };
     const Expr f = halfspace(p0, n, dim);
-    if (dim == 2) check_primitive<2>("halfspace 2D", f, pts, member, -3, 3, 41);
-    else check_primitive<3>("halfspace 3D", f, pts, member, -3, 3, 41);
+    if (dim == 2)
+      check_primitive<2>("halfspace 2D", f, pts, member, -3, 3, 41);
+    else
+      check_primitive<3>("halfspace 3D", f, pts, member, -3, 3, 41);
   }
 }
 
@@ -106,10 +110,12 @@ TEST(Primitives, BallAndDisk) {
     const Point d{s * std::cos(th), s * std::sin(th), u};
     ball_pts.push_back({add(c, d, r), {-d[0], -d[1], -d[2]}});
   }
-  check_primitive<2>("disk", ball(c, r, 2), disk,
-                     [&](const Point& p) { return std::hypot(p[0] - c[0], p[1] - c[1]) < r ? 1 : -1; }, -2, 2, 43);
-  check_primitive<3>("ball", ball(c, r, 3), ball_pts,
-                     [&](const Point& p) { return std::sqrt(dot(add(p, c, -1), add(p, c, -1))) < r ? 1 : -1; }, -2, 2, 44);
+  check_primitive<2>(
+      "disk", ball(c, r, 2), disk, [&](const Point& p) { return std::hypot(p[0] - c[0], p[1] - c[1]) < r ? 1 : -1; },
+      -2, 2, 43);
+  check_primitive<3>(
+      "ball", ball(c, r, 3), ball_pts,
+      [&](const Point& p) { return std::sqrt(dot(add(p, c, -1), add(p, c, -1))) < r ? 1 : -1; }, -2, 2, 44);
   EXPECT_THROW(ball(c, 0.0, 3), std::invalid_argument);
   EXPECT_THROW(ball(c, -1.0, 2), std::invalid_argument);
   EXPECT_THROW(ball(c, 1.0, 4), std::invalid_argument);
@@ -119,7 +125,8 @@ TEST(Primitives, BallAndDisk) {
 // coordinate h, radius rho, angle th.
 Point axial_point(const Point& o, const Point& u, double h, double rho, double th, Point* radial = nullptr) {
   const auto [e1, e2] = frame(u);
-  const Point rad = add(Point{0, 0, 0}, add(Point{std::cos(th) * e1[0], std::cos(th) * e1[1], std::cos(th) * e1[2]}, e2, std::sin(th)));
+  const Point rad = add(Point{0, 0, 0},
+                        add(Point{std::cos(th) * e1[0], std::cos(th) * e1[1], std::cos(th) * e1[2]}, e2, std::sin(th)));
   if (radial) *radial = rad;
   return add(add(o, u, h), rad, rho);
 }
@@ -141,8 +148,9 @@ TEST(Primitives, Cylinder) {
     const Point p = axial_point(o, u, test::uniform(rng, -3, 3), r, test::uniform(rng, 0, 2 * M_PI), &rad);
     pts.push_back({p, {-rad[0], -rad[1], -rad[2]}});
   }
-  check_primitive<3>("cylinder", cylinder(o, dir, r), pts,
-                     [&](const Point& p) { return axial_coordinates(o, u, p).second < r ? 1 : -1; }, -2, 2, 46);
+  check_primitive<3>(
+      "cylinder", cylinder(o, dir, r), pts,
+      [&](const Point& p) { return axial_coordinates(o, u, p).second < r ? 1 : -1; }, -2, 2, 46);
   EXPECT_THROW(cylinder(o, {0, 0, 0}, r), std::invalid_argument);
 }
 
@@ -156,19 +164,21 @@ TEST(Primitives, CappedCylinder) {
     for (int i = 0; i < 100; ++i) {
       // Side, away from the rims.
       Point rad;
-      const Point p = axial_point(base, u, test::uniform(rng, 0.2, height - 0.2), r, test::uniform(rng, 0, 2 * M_PI), &rad);
+      const Point p =
+          axial_point(base, u, test::uniform(rng, 0.2, height - 0.2), r, test::uniform(rng, 0, 2 * M_PI), &rad);
       pts.push_back({p, {-rad[0], -rad[1], -rad[2]}});
       // Caps, away from the rims.
       const double rho = test::uniform(rng, 0, r - 0.2), th = test::uniform(rng, 0, 2 * M_PI);
       pts.push_back({axial_point(base, u, 0, rho, th), u});
       pts.push_back({axial_point(base, u, height, rho, th), {-u[0], -u[1], -u[2]}});
     }
-    check_primitive<3>("capped cylinder " + s.name(), capped_cylinder(base, dir, r, height, s), pts,
-                       [&](const Point& p) {
-                         const auto [h, rho] = axial_coordinates(base, u, p);
-                         return h > 0 && h < height && rho < r ? 1 : -1;
-                       },
-                       -1.5, 1.5, 48);
+    check_primitive<3>(
+        "capped cylinder " + s.name(), capped_cylinder(base, dir, r, height, s), pts,
+        [&](const Point& p) {
+          const auto [h, rho] = axial_coordinates(base, u, p);
+          return h > 0 && h < height && rho < r ? 1 : -1;
+        },
+        -1.5, 1.5, 48);
   }
   EXPECT_THROW(capped_cylinder(base, dir, r, 0.0, RSystem::r0()), std::invalid_argument);
 }
@@ -186,12 +196,13 @@ TEST(Primitives, Cone) {
     // Inner normal: sin(a) u - cos(a) radial.
     pts.push_back({p, add(Point{std::sin(a) * u[0], std::sin(a) * u[1], std::sin(a) * u[2]}, rad, -std::cos(a))});
   }
-  check_primitive<3>("cone", cone(apex, dir, a), pts,
-                     [&](const Point& p) {
-                       const auto [h, rho] = axial_coordinates(apex, u, p);
-                       return h > 0 && rho < h * std::tan(a) ? 1 : -1;
-                     },
-                     -2, 2, 50);
+  check_primitive<3>(
+      "cone", cone(apex, dir, a), pts,
+      [&](const Point& p) {
+        const auto [h, rho] = axial_coordinates(apex, u, p);
+        return h > 0 && rho < h * std::tan(a) ? 1 : -1;
+      },
+      -2, 2, 50);
   EXPECT_THROW(cone(apex, dir, 0.0), std::invalid_argument);
   EXPECT_THROW(cone(apex, dir, M_PI / 2), std::invalid_argument);
 }
@@ -211,12 +222,13 @@ TEST(Primitives, Torus) {
     const Point d = add(Point{std::cos(ph) * rad[0], std::cos(ph) * rad[1], std::cos(ph) * rad[2]}, u, std::sin(ph));
     pts.push_back({add(tube, d, r), {-d[0], -d[1], -d[2]}});
   }
-  check_primitive<3>("torus", torus(c, dir, R, r), pts,
-                     [&](const Point& p) {
-                       const auto [h, rho] = axial_coordinates(c, u, p);
-                       return std::hypot(rho - R, h) < r ? 1 : -1;
-                     },
-                     -1.8, 1.8, 52);
+  check_primitive<3>(
+      "torus", torus(c, dir, R, r), pts,
+      [&](const Point& p) {
+        const auto [h, rho] = axial_coordinates(c, u, p);
+        return std::hypot(rho - R, h) < r ? 1 : -1;
+      },
+      -1.8, 1.8, 52);
   EXPECT_THROW(torus(c, dir, 0.0, r), std::invalid_argument);
 }
 
@@ -241,8 +253,10 @@ TEST(Primitives, Ellipsoid) {
   };
   // Normalized to first order only: off the boundary the value is the
   // distance up to O(d^2), well inside the +-1e-6 probe tolerance.
-  check_primitive<2>("ellipse", ellipsoid(c, ax, 2), e2, [&](const Point& p) { return inside(p, 2); }, -2, 2, 54);
-  check_primitive<3>("ellipsoid", ellipsoid(c, ax, 3), e3, [&](const Point& p) { return inside(p, 3); }, -2, 2, 55);
+  check_primitive<2>(
+      "ellipse", ellipsoid(c, ax, 2), e2, [&](const Point& p) { return inside(p, 2); }, -2, 2, 54);
+  check_primitive<3>(
+      "ellipsoid", ellipsoid(c, ax, 3), e3, [&](const Point& p) { return inside(p, 3); }, -2, 2, 55);
   EXPECT_THROW(ellipsoid(c, {1, 0, 1}, 3), std::invalid_argument);
 }
 
@@ -267,8 +281,10 @@ TEST(Primitives, Box) {
         return 1;
       };
       const Expr f = box(lo, hi, dim, s);
-      if (dim == 2) check_primitive<2>("box 2D " + s.name(), f, pts, member, -1.5, 2.5, 57);
-      else check_primitive<3>("box 3D " + s.name(), f, pts, member, -1.5, 2.5, 57);
+      if (dim == 2)
+        check_primitive<2>("box 2D " + s.name(), f, pts, member, -1.5, 2.5, 57);
+      else
+        check_primitive<3>("box 3D " + s.name(), f, pts, member, -1.5, 2.5, 57);
     }
   EXPECT_THROW(box(hi, lo, 3, RSystem::r0()), std::invalid_argument);
 }

@@ -34,8 +34,8 @@ Tuple<2, K> rf(double x, double y, const RSystem& s, double sign) {
 // from the corner, with the inner normal there.
 struct AxisPoint {
   double x, y;
-  int normal_axis;       // 0: normal along x, 1: along y
-  double normal_sign;    // direction of the inner normal along that axis
+  int normal_axis;     // 0: normal along x, 1: along y
+  double normal_sign;  // direction of the inner normal along that axis
 };
 std::vector<AxisPoint> boundary_axis_points(double sign) {
   std::vector<AxisPoint> pts;
@@ -76,9 +76,11 @@ TEST(RFunction, R0GradientSquaredIsThreeMinusTwoCosPlusSin) {
     }
   }
   // On x = 0, y < 0 the conjunction is not normalized: |grad|^2 = 5.
-  for (double y : {-0.1, -1.0, -7.0}) EXPECT_NEAR(std::pow(test::gradient_norm(rf<1>(0.0, y, RSystem::r0(), -1)), 2), 5.0, 1e-13);
+  for (double y : {-0.1, -1.0, -7.0})
+    EXPECT_NEAR(std::pow(test::gradient_norm(rf<1>(0.0, y, RSystem::r0(), -1)), 2), 5.0, 1e-13);
   // Likewise the disjunction on x = 0, y > 0.
-  for (double y : {0.1, 1.0, 7.0}) EXPECT_NEAR(std::pow(test::gradient_norm(rf<1>(0.0, y, RSystem::r0(), 1)), 2), 5.0, 1e-13);
+  for (double y : {0.1, 1.0, 7.0})
+    EXPECT_NEAR(std::pow(test::gradient_norm(rf<1>(0.0, y, RSystem::r0(), 1)), 2), 5.0, 1e-13);
 }
 
 template <int P>
@@ -96,7 +98,8 @@ void check_rp_normalization() {
         if (k == 1) {
           EXPECT_NEAR(dk, 1.0, 1e-13) << "p=" << P;
         } else if (k < P) {
-          EXPECT_NEAR(dk, 0.0, 1e-10 * std::tgamma(k + 1.0) / std::pow(std::abs(along), k - 1)) << "p=" << P << " k=" << k;
+          EXPECT_NEAR(dk, 0.0, 1e-10 * std::tgamma(k + 1.0) / std::pow(std::abs(along), k - 1))
+              << "p=" << P << " k=" << k;
         } else {
           // f = n -+ n^p / (p |s|^(p-1)) + O(n^2p): d^p f/dn^p = -+(p-1)!/|s|^(p-1).
           const double expected = sign * std::tgamma(P * 1.0) / std::pow(std::abs(along), P - 1);
@@ -208,9 +211,27 @@ TEST(RFunction, RAlphaIsNormalizedOnTheAxes) {
   }
 }
 
+TEST(RFunction, RAlphaWithAlphaOneIsMinMaxToRoundOff) {
+  // FORMULAS.md: alpha = 1 gives min/max. Near x = y the radicand
+  // x^2 + y^2 - 2xy cancels; the value must still be min/max to round-off
+  // (not to sqrt(eps)), with partials in {0, 1/2, 1} (to round-off) and never negative.
+  auto rng = test::make_rng(15);
+  for (int i = 0; i < 20000; ++i) {
+    const double x = test::uniform(rng, -5, 5), y = x * (1 + 1e-9 * test::uniform(rng, -1, 1));
+    for (double sign : {-1.0, 1.0}) {
+      const double expected = sign < 0 ? std::min(x, y) : std::max(x, y);
+      EXPECT_NEAR(r_combine(x, y, RSystem::r_alpha(1.0), sign), expected, 4e-16 * std::abs(x));
+      const auto t = rf<1>(x, y, RSystem::r_alpha(1.0), sign);
+      for (double g : t.gradient()) {
+        EXPECT_GE(g, 0.0);
+        EXPECT_LT(std::min({std::abs(g), std::abs(g - 0.5), std::abs(g - 1)}), 1e-15) << g;
+      }
+    }
+  }
+}
+
 TEST(RFunction, MonotoneSystemsAreNonDecreasingInEachArgument) {
-  std::vector<RSystem> systems = {RSystem::min_max(), RSystem::r0(), RSystem::r_p(2), RSystem::r_p(4),
-                                  RSystem::r_p(8)};
+  std::vector<RSystem> systems = {RSystem::min_max(), RSystem::r0(), RSystem::r_p(2), RSystem::r_p(4), RSystem::r_p(8)};
   for (double alpha : {-0.9, -0.5, 0.5, 1.0}) systems.push_back(RSystem::r_alpha(alpha));
   auto rng = test::make_rng(12);
   for (const RSystem& s : systems) {
@@ -220,8 +241,8 @@ TEST(RFunction, MonotoneSystemsAreNonDecreasingInEachArgument) {
       const double y1 = test::uniform(rng, -5, 5), y2 = test::uniform(rng, -5, 5);
       const double xl = std::min(x1, x2), xh = std::max(x1, x2), yl = std::min(y1, y2), yh = std::max(y1, y2);
       for (double sign : {-1.0, 1.0}) {
-        const double lo = r_combine(xl, yl, s, sign), mid1 = r_combine(xh, yl, s, sign), mid2 = r_combine(xl, yh, s, sign),
-                     hi = r_combine(xh, yh, s, sign);
+        const double lo = r_combine(xl, yl, s, sign), mid1 = r_combine(xh, yl, s, sign),
+                     mid2 = r_combine(xl, yh, s, sign), hi = r_combine(xh, yh, s, sign);
         const double tol = 1e-13 * (1 + std::abs(lo) + std::abs(hi));
         EXPECT_LE(lo, mid1 + tol) << s.name();
         EXPECT_LE(lo, mid2 + tol) << s.name();

@@ -100,33 +100,36 @@ struct OpCase {
 };
 
 inline std::vector<RSystem> all_rsystems() {
-  return {RSystem::min_max(),     RSystem::r0(),    RSystem::r_alpha(0.5), RSystem::r_alpha(-0.5),
-          RSystem::r_alpha(1.0),  RSystem::r_alpha_variable(), RSystem::r_p(2), RSystem::r_p(4),
-          RSystem::r_p(6),        RSystem::r_p(8),  RSystem::r_m(2),       RSystem::r_m(4)};
+  return {RSystem::min_max(),     RSystem::r0(),         RSystem::r_alpha(0.5),
+          RSystem::r_alpha(-0.5), RSystem::r_alpha(1.0), RSystem::r_alpha_variable(),
+          RSystem::r_p(2),        RSystem::r_p(4),       RSystem::r_p(6),
+          RSystem::r_p(8),        RSystem::r_m(2),       RSystem::r_m(4)};
 }
 
-/// Reference R-function, written from the table in FORMULAS.md.
-inline double reference_r(double x, double y, const RSystem& s, double sign) {
+/// Reference R-function, written from the table in FORMULAS.md and
+/// evaluated in long double (so that it is not subject to the same
+/// double round-off as the library).
+inline double reference_r(double xd, double yd, const RSystem& s, double sign) {
+  using L = long double;
+  const L x = xd, y = yd, sg = sign;
   switch (s.kind) {
-    case RKind::MinMax:
-      return sign < 0 ? std::min(x, y) : std::max(x, y);
-    case RKind::R0:
-      return x + y + sign * std::hypot(x, y);
+    case RKind::MinMax: return sign < 0 ? std::min(xd, yd) : std::max(xd, yd);
+    case RKind::R0: return static_cast<double>(x + y + sg * std::sqrt(x * x + y * y));
     case RKind::RAlpha: {
-      const double a = s.parameter;
-      return (x + y + sign * std::sqrt(std::max(0.0, x * x + y * y - 2 * a * x * y))) / (1 + a);
+      const L a = s.parameter;
+      return static_cast<double>((x + y + sg * std::sqrt(std::max(L(0), x * x + y * y - 2 * a * x * y))) / (1 + a));
     }
     case RKind::RAlphaVariable: {
-      const double a = 1 / (1 + x * x + y * y);
-      return (x + y + sign * std::sqrt(std::max(0.0, x * x + y * y - 2 * a * x * y))) / (1 + a);
+      const L a = 1 / (1 + x * x + y * y);
+      return static_cast<double>((x + y + sg * std::sqrt(std::max(L(0), x * x + y * y - 2 * a * x * y))) / (1 + a));
     }
     case RKind::Rp: {
-      const double p = s.parameter;
-      return x + y + sign * std::pow(std::pow(x, p) + std::pow(y, p), 1 / p);
+      const L p = s.parameter;
+      return static_cast<double>(x + y + sg * std::pow(std::pow(x, p) + std::pow(y, p), 1 / p));
     }
     case RKind::Rm: {
-      const double m = s.parameter;
-      return (x + y + sign * std::hypot(x, y)) * std::pow(x * x + y * y, m / 2);
+      const L m = s.parameter;
+      return static_cast<double>((x + y + sg * std::sqrt(x * x + y * y)) * std::pow(x * x + y * y, m / 2));
     }
   }
   return NAN;
@@ -150,9 +153,10 @@ inline std::vector<OpCase> op_cases(bool chain) {
   };
   auto binary = [&](const std::string& name, Op op, double p0, double p1, std::function<double(double, double)> ref,
                     std::function<bool(double, double)> dom) {
-    cases.push_back({name, op,
-                     [=](const Expr& x, const Expr& y, const Expr& z) { return Expr::make(op, U(x, y), V(x, y, z), p0, p1); },
-                     [=](const Point& p) { return ref(u(p), v(p)); }, [=](const Point& p) { return dom(u(p), v(p)); }});
+    cases.push_back(
+        {name, op,
+         [=](const Expr& x, const Expr& y, const Expr& z) { return Expr::make(op, U(x, y), V(x, y, z), p0, p1); },
+         [=](const Point& p) { return ref(u(p), v(p)); }, [=](const Point& p) { return dom(u(p), v(p)); }});
   };
   auto away = [](double a, double m) { return std::abs(a) > m; };
   for (Op op : kAllOps) {
@@ -170,45 +174,85 @@ inline std::vector<OpCase> op_cases(bool chain) {
                          [i](const Point& p) { return p[i]; }, always});
         break;
       }
-      case Op::Neg: unary("neg", op, 0, [](double a) { return -a; }, [](double) { return true; }); break;
-      case Op::Square: unary("square", op, 0, [](double a) { return a * a; }, [](double) { return true; }); break;
-      case Op::Sqrt: unary("sqrt", op, 0, [](double a) { return std::sqrt(a); }, [](double a) { return a > 0.1; }); break;
-      case Op::Exp: unary("exp", op, 0, [](double a) { return std::exp(a); }, [](double) { return true; }); break;
-      case Op::Log: unary("log", op, 0, [](double a) { return std::log(a); }, [](double a) { return a > 0.1; }); break;
-      case Op::Sin: unary("sin", op, 0, [](double a) { return std::sin(a); }, [](double) { return true; }); break;
-      case Op::Cos: unary("cos", op, 0, [](double a) { return std::cos(a); }, [](double) { return true; }); break;
-      case Op::Abs: unary("abs", op, 0, [](double a) { return std::abs(a); }, [=](double a) { return away(a, 1e-2); }); break;
+      case Op::Neg:
+        unary(
+            "neg", op, 0, [](double a) { return -a; }, [](double) { return true; });
+        break;
+      case Op::Square:
+        unary(
+            "square", op, 0, [](double a) { return a * a; }, [](double) { return true; });
+        break;
+      case Op::Sqrt:
+        unary(
+            "sqrt", op, 0, [](double a) { return std::sqrt(a); }, [](double a) { return a > 0.1; });
+        break;
+      case Op::Exp:
+        unary(
+            "exp", op, 0, [](double a) { return std::exp(a); }, [](double) { return true; });
+        break;
+      case Op::Log:
+        unary(
+            "log", op, 0, [](double a) { return std::log(a); }, [](double a) { return a > 0.1; });
+        break;
+      case Op::Sin:
+        unary(
+            "sin", op, 0, [](double a) { return std::sin(a); }, [](double) { return true; });
+        break;
+      case Op::Cos:
+        unary(
+            "cos", op, 0, [](double a) { return std::cos(a); }, [](double) { return true; });
+        break;
+      case Op::Abs:
+        unary(
+            "abs", op, 0, [](double a) { return std::abs(a); }, [=](double a) { return away(a, 1e-2); });
+        break;
       case Op::Step:
-        unary("step", op, 0, [](double a) { return a > 0 ? 1.0 : (a < 0 ? 0.0 : 0.5); },
-              [=](double a) { return away(a, 1e-2); });
+        unary(
+            "step", op, 0, [](double a) { return a > 0 ? 1.0 : (a < 0 ? 0.0 : 0.5); },
+            [=](double a) { return away(a, 1e-2); });
         break;
       case Op::PowInt:
         for (int n : {3, 5, -1, -2})
-          unary("pow_int:" + std::to_string(n), op, n, [n](double a) { return std::pow(a, n); },
-                [=](double a) { return n > 0 || away(a, 0.2); });
+          unary(
+              "pow_int:" + std::to_string(n), op, n, [n](double a) { return std::pow(a, n); },
+              [=](double a) { return n > 0 || away(a, 0.2); });
         break;
       case Op::PowReal:
         for (double r : {1.5, 0.3, -0.7})
-          unary("pow_real:" + std::to_string(r), op, r, [r](double a) { return std::pow(a, r); },
-                [](double a) { return a > 0.1; });
+          unary(
+              "pow_real:" + std::to_string(r), op, r, [r](double a) { return std::pow(a, r); },
+              [](double a) { return a > 0.1; });
         break;
-      case Op::Add: binary("add", op, 0, 0, [](double a, double b) { return a + b; }, [](double, double) { return true; }); break;
-      case Op::Sub: binary("sub", op, 0, 0, [](double a, double b) { return a - b; }, [](double, double) { return true; }); break;
-      case Op::Mul: binary("mul", op, 0, 0, [](double a, double b) { return a * b; }, [](double, double) { return true; }); break;
+      case Op::Add:
+        binary(
+            "add", op, 0, 0, [](double a, double b) { return a + b; }, [](double, double) { return true; });
+        break;
+      case Op::Sub:
+        binary(
+            "sub", op, 0, 0, [](double a, double b) { return a - b; }, [](double, double) { return true; });
+        break;
+      case Op::Mul:
+        binary(
+            "mul", op, 0, 0, [](double a, double b) { return a * b; }, [](double, double) { return true; });
+        break;
       case Op::Div:
-        binary("div", op, 0, 0, [](double a, double b) { return a / b; }, [=](double, double b) { return away(b, 0.2); });
+        binary(
+            "div", op, 0, 0, [](double a, double b) { return a / b; }, [=](double, double b) { return away(b, 0.2); });
         break;
       case Op::DivSafe:
-        binary("div_safe", op, 0, 0, [](double a, double b) { return b == 0 ? 0.0 : a / b; },
-               [=](double, double b) { return away(b, 0.2); });
+        binary(
+            "div_safe", op, 0, 0, [](double a, double b) { return b == 0 ? 0.0 : a / b; },
+            [=](double, double b) { return away(b, 0.2); });
         break;
       case Op::Min:
-        binary("min", op, 0, 0, [](double a, double b) { return std::min(a, b); },
-               [=](double a, double b) { return away(a - b, 1e-2); });
+        binary(
+            "min", op, 0, 0, [](double a, double b) { return std::min(a, b); },
+            [=](double a, double b) { return away(a - b, 1e-2); });
         break;
       case Op::Max:
-        binary("max", op, 0, 0, [](double a, double b) { return std::max(a, b); },
-               [=](double a, double b) { return away(a - b, 1e-2); });
+        binary(
+            "max", op, 0, 0, [](double a, double b) { return std::max(a, b); },
+            [=](double a, double b) { return away(a - b, 1e-2); });
         break;
       case Op::RAnd:
       case Op::ROr: {
@@ -216,11 +260,10 @@ inline std::vector<OpCase> op_cases(bool chain) {
         for (const RSystem& s : all_rsystems()) {
           // Smooth away from the corner, and (minmax, alpha = 1) off x = y.
           const bool kink_on_diagonal = s.kind == RKind::MinMax || (s.kind == RKind::RAlpha && s.parameter == 1.0);
-          binary(std::string(op_name(op)) + "[" + s.name() + "]", op, static_cast<int>(s.kind), s.parameter,
-                 [s, sign](double a, double b) { return reference_r(a, b, s, sign); },
-                 [=](double a, double b) {
-                   return std::hypot(a, b) > 0.1 && (!kink_on_diagonal || away(a - b, 1e-2));
-                 });
+          binary(
+              std::string(op_name(op)) + "[" + s.name() + "]", op, static_cast<int>(s.kind), s.parameter,
+              [s, sign](double a, double b) { return reference_r(a, b, s, sign); },
+              [=](double a, double b) { return std::hypot(a, b) > 0.1 && (!kink_on_diagonal || away(a - b, 1e-2)); });
         }
         break;
       }

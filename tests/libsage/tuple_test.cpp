@@ -39,7 +39,8 @@ double product_closed_form(int a, int b, double x, double y, double& magnitude) 
   magnitude = 0;
   for (int i = 0; i <= a; ++i)
     for (int j = 0; j <= b; ++j) {
-      const double term = test::binomial_d(a, i) * test::binomial_d(b, j) * exp_sin(i, j, x, y) * binom7(a - i, b - j, x, y);
+      const double term =
+          test::binomial_d(a, i) * test::binomial_d(b, j) * exp_sin(i, j, x, y) * binom7(a - i, b - j, x, y);
       s += term;
       magnitude += std::abs(term);
     }
@@ -145,12 +146,14 @@ TEST(Tuple, ElementaryFunctionsMatchUnivariateClosedForms) {
   using T = Tuple<1, 8>;
   for (double x : {-0.6, -0.1, 0.3, 1.7}) {
     const T X = T::variable(0, x);
-    const T inv = T(1.0) / (1.0 + X), rt = sqrt(1.0 + X), lg = log(1.0 + X), cs = cos(X), sq = square(X - 0.25);
-    const T pw = pow_real(1.0 + X, -0.7);
+    const T inv = T(1.0) / (T(1.0) + X), rt = sqrt(T(1.0) + X), lg = log(T(1.0) + X), cs = cos(X),
+            sq = square(X - T(0.25));
+    const T pw = pow_real(T(1.0) + X, -0.7);
     for (int k = 0; k <= 8; ++k) {
       const MultiIndex<1> al{k};
       const double fact = std::tgamma(k + 1.0);
-      EXPECT_NEAR(inv.derivative(al), std::pow(-1.0, k) * fact / std::pow(1 + x, k + 1), 1e-12 * fact * std::pow(1 + x, -k - 1));
+      EXPECT_NEAR(inv.derivative(al), std::pow(-1.0, k) * fact / std::pow(1 + x, k + 1),
+                  1e-12 * fact * std::pow(1 + x, -k - 1));
       EXPECT_NEAR(rt.derivative(al), test::falling_factorial(0.5, k) * std::pow(1 + x, 0.5 - k),
                   1e-12 * (1 + std::abs(test::falling_factorial(0.5, k) * std::pow(1 + x, 0.5 - k))));
       EXPECT_NEAR(pw.derivative(al), test::falling_factorial(-0.7, k) * std::pow(1 + x, -0.7 - k),
@@ -192,7 +195,8 @@ void check_against_finite_differences(const Expr& f, double lo, double hi, int t
       for (int axis = 0; axis < N; ++axis) {
         if (al[axis] == 0) continue;
         const auto lower = test::minus_unit<N>(al, axis);
-        const double fd = test::central_difference([&](const Point& q) { return ev.at(q).derivative(lower); }, p, axis, 1e-3);
+        const double fd =
+            test::central_difference([&](const Point& q) { return ev.at(q).derivative(lower); }, p, axis, 1e-3);
         EXPECT_NEAR(t.derivative(al), fd, 1e-6 * (1 + std::abs(fd)))
             << "order " << order_of<N>(al) << " axis " << axis << " at (" << p[0] << "," << p[1] << "," << p[2] << ")";
       }

@@ -7,8 +7,10 @@
 // [lo, hi] inclusive with spacing (hi - lo) / (n - 1).
 
 #include <sage/evaluator.hpp>
+#include <sage/interval.hpp>
 #include <sage/tape.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <functional>
@@ -34,6 +36,22 @@ struct Grid {
   std::array<double, 3> point(std::size_t index) const {
     const std::size_t i = index % points[0], j = (index / points[0]) % points[1], k = index / points[0] / points[1];
     return {lo[0] + i * spacing(0), lo[1] + j * spacing(1), dimension == 3 ? lo[2] + k * spacing(2) : 0.0};
+  }
+
+  /// Number of cells (boxes between neighbouring points).
+  std::size_t cell_count() const {
+    std::size_t n = 1;
+    for (int a = 0; a < dimension; ++a) n *= static_cast<std::size_t>(std::max(points[a] - 1, 0));
+    return n;
+  }
+  /// The box of cell `index` (cells numbered like points, x fastest).
+  std::array<Interval, 3> cell(std::size_t index) const {
+    const std::size_t cx = static_cast<std::size_t>(points[0] - 1), cy = static_cast<std::size_t>(points[1] - 1);
+    const std::size_t i = index % cx, j = (index / cx) % cy, k = index / cx / cy;
+    const std::array<double, 3> p = point(i + points[0] * (j + static_cast<std::size_t>(points[1]) * k));
+    std::array<Interval, 3> box{Interval(p[0], p[0] + spacing(0)), Interval(p[1], p[1] + spacing(1)), Interval(0.0)};
+    if (dimension == 3) box[2] = Interval(p[2], p[2] + spacing(2));
+    return box;
   }
 
   /// Parses "200x200" (2D) or "64x64x64" (3D); throws std::invalid_argument.
@@ -75,6 +93,24 @@ void for_each_grid_point(const Tape& tape, const Grid& grid, Visit visit, const 
     }
   }
   if (progress) progress(1.0);
+}
+
+/// Encloses the tape's roots over every grid cell with interval
+/// arithmetic, in parallel; visit(cell_index, evaluator) as above. A root
+/// whose interval excludes 0 proves the cell holds none of its zero set.
+template <class Visit>
+void for_each_grid_cell(const Tape& tape, const Grid& grid, Visit visit) {
+  const std::size_t n = grid.cell_count();
+#pragma omp parallel
+  {
+    Evaluator<Interval> eval(tape);
+#pragma omp for schedule(dynamic, 1024)
+    for (std::size_t c = 0; c < n; ++c) {
+      const auto box = grid.cell(c);
+      eval.evaluate_with(box.data());
+      visit(c, eval);
+    }
+  }
 }
 
 }  // namespace sage

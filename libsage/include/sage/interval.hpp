@@ -4,7 +4,7 @@
 // Promise: for every operation F and every x in X (y in Y),
 // f(x, y) lies in F(X, Y) -- for the real-number f, not just for its
 // floating-point evaluation. Rounding is outward: every computed end point
-// is moved one ulp outward after +, -, *, /, sqrt (correctly rounded in
+// is moved at least one ulp outward after +, -, *, /, sqrt (correctly rounded in
 // IEEE 754, so one ulp is enough) and two ulps after exp, log, sin, cos and
 // pow (glibc documents errors of at most one ulp or so for them). The
 // rounding mode of the FPU is never changed, so intervals are safe to use
@@ -44,12 +44,19 @@ struct Interval {
 
 namespace detail {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Moves x down (up) by at least `ulps` units in the last place. For finite
+// x, |x| * 2^-52 is between one and two ulps of x, so subtracting it (plus
+// the smallest subnormal, for x = 0) lands at least one representable
+// number lower whatever the rounding; this is several times faster than
+// std::nextafter. Infinities and NaN pass through.
 inline double down(double x, int ulps = 1) {
-  for (int i = 0; i < ulps; ++i) x = std::nextafter(x, -kInf);
+  if (!std::isfinite(x)) return x;
+  for (int i = 0; i < ulps; ++i) x -= std::abs(x) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
   return x;
 }
 inline double up(double x, int ulps = 1) {
-  for (int i = 0; i < ulps; ++i) x = std::nextafter(x, kInf);
+  if (!std::isfinite(x)) return x;
+  for (int i = 0; i < ulps; ++i) x += std::abs(x) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
   return x;
 }
 inline Interval outward(double lo, double hi, int ulps = 1) { return {down(lo, ulps), up(hi, ulps)}; }
@@ -129,8 +136,10 @@ inline Interval cos_range(const Interval& a) {
   for (double k = k_first; k <= k_last; k += 1.0) {
     const double t = k * M_PI, tol = 1e-15 * (1.0 + std::abs(t));
     if (t < a.lo - tol || t > a.hi + tol) continue;
-    if (std::fmod(std::abs(k), 2.0) == 0.0) hi = 1.0;
-    else lo = -1.0;
+    if (std::fmod(std::abs(k), 2.0) == 0.0)
+      hi = 1.0;
+    else
+      lo = -1.0;
   }
   return {std::max(-1.0, down(lo, 2)), std::min(1.0, up(hi, 2))};
 }
@@ -161,8 +170,6 @@ inline Interval div_safe(const Interval& a, const Interval& b) {
 }
 
 /// Hull of two intervals.
-inline Interval hull(const Interval& a, const Interval& b) {
-  return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)};
-}
+inline Interval hull(const Interval& a, const Interval& b) { return {std::min(a.lo, b.lo), std::max(a.hi, b.hi)}; }
 
 }  // namespace sage

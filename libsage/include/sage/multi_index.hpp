@@ -66,34 +66,45 @@ struct MultiIndexTable {
 };
 
 /// The Cauchy product table: every (i, j, k) with index[i] + index[j] =
-/// index[k] and order <= K. Multiplying two tuples is one pass over it.
-template <int N, int K>
+/// index[k] and order <= K, sorted by the order of k, so that the terms
+/// producing orders <= m are a prefix (prefix[m] of them). Multiplying two
+/// tuples is one pass over it. With SkipConstantRhs, terms whose right
+/// factor is the constant coefficient are left out: the table for
+/// multiplying by a series with no constant term (see compose()).
+template <int N, int K, bool SkipConstantRhs = false>
 struct ProductTable {
   struct Term {
     unsigned short lhs, rhs, out;
   };
   static constexpr MultiIndexTable<N, K> table{};
 
+  static constexpr bool kept(int i, int j) {
+    if (SkipConstantRhs && j == 0) return false;
+    return order_of<N>(table.index[i]) + order_of<N>(table.index[j]) <= K;
+  }
   static constexpr int count() {
     int c = 0;
     for (int i = 0; i < table.size; ++i)
-      for (int j = 0; j < table.size; ++j)
-        if (order_of<N>(table.index[i]) + order_of<N>(table.index[j]) <= K) ++c;
+      for (int j = 0; j < table.size; ++j) c += kept(i, j);
     return c;
   }
   static constexpr int size = count();
   std::array<Term, size> terms{};
+  std::array<int, K + 1> prefix{};
 
   constexpr ProductTable() {
     int c = 0;
-    for (int i = 0; i < table.size; ++i)
-      for (int j = 0; j < table.size; ++j) {
-        if (order_of<N>(table.index[i]) + order_of<N>(table.index[j]) > K) continue;
-        MultiIndex<N> sum{};
-        for (int v = 0; v < N; ++v) sum[v] = table.index[i][v] + table.index[j][v];
-        terms[c++] = Term{static_cast<unsigned short>(i), static_cast<unsigned short>(j),
-                          static_cast<unsigned short>(table.find(sum))};
-      }
+    for (int order = 0; order <= K; ++order) {
+      for (int i = 0; i < table.size; ++i)
+        for (int j = 0; j < table.size; ++j) {
+          if (!kept(i, j) || order_of<N>(table.index[i]) + order_of<N>(table.index[j]) != order) continue;
+          MultiIndex<N> sum{};
+          for (int v = 0; v < N; ++v) sum[v] = table.index[i][v] + table.index[j][v];
+          terms[c++] = Term{static_cast<unsigned short>(i), static_cast<unsigned short>(j),
+                            static_cast<unsigned short>(table.find(sum))};
+        }
+      prefix[order] = c;
+    }
   }
 };
 

@@ -47,8 +47,7 @@ enum class Op : std::uint8_t {
 constexpr int arity(Op op) {
   switch (op) {
 #define SAGE_OP_ARITY(name, id, text, ar) \
-  case Op::name:                          \
-    return ar;
+  case Op::name: return ar;
     SAGE_OPCODES(SAGE_OP_ARITY)
 #undef SAGE_OP_ARITY
   }
@@ -58,8 +57,7 @@ constexpr int arity(Op op) {
 constexpr std::string_view op_name(Op op) {
   switch (op) {
 #define SAGE_OP_NAME(name, id, text, ar) \
-  case Op::name:                         \
-    return text;
+  case Op::name: return text;
     SAGE_OPCODES(SAGE_OP_NAME)
 #undef SAGE_OP_NAME
   }

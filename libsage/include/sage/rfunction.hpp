@@ -67,13 +67,16 @@ struct RSystem {
 template <class T>
 T r_combine(const T& x, const T& y, const RSystem& s, double sign) {
   switch (s.kind) {
-    case RKind::MinMax:
-      return sign < 0 ? min(x, y) : max(x, y);
-    case RKind::R0:
-      return x + y + sign * sqrt(clamp_nonneg(square(x) + square(y)));
+    case RKind::MinMax: return sign < 0 ? min(x, y) : max(x, y);
+    case RKind::R0: return x + y + sign * sqrt(clamp_nonneg(square(x) + square(y)));
     case RKind::RAlpha: {
+      // x^2 + y^2 - 2 a x y, written so that at most half of it cancels:
+      // as given it loses everything near x = y when a -> 1 (alpha = 1 was
+      // min/max only to sqrt(machine epsilon), with partials of either sign).
       const double a = s.parameter;
-      return (x + y + sign * sqrt(clamp_nonneg(square(x) + square(y) - (2.0 * a) * (x * y)))) * (1.0 / (1.0 + a));
+      const T radicand =
+          a >= 0 ? square(x - y) + (2.0 * (1.0 - a)) * (x * y) : square(x + y) - (2.0 * (1.0 + a)) * (x * y);
+      return (x + y + sign * sqrt(clamp_nonneg(radicand))) * (1.0 / (1.0 + a));
     }
     case RKind::RAlphaVariable: {
       const T r2 = square(x) + square(y);
@@ -103,11 +106,17 @@ inline Interval r_combine(const Interval& x, const Interval& y, const RSystem& s
 }
 
 template <class T>
-T r_and(const T& x, const T& y, const RSystem& s) { return r_combine(x, y, s, -1.0); }
+T r_and(const T& x, const T& y, const RSystem& s) {
+  return r_combine(x, y, s, -1.0);
+}
 template <class T>
-T r_or(const T& x, const T& y, const RSystem& s) { return r_combine(x, y, s, +1.0); }
+T r_or(const T& x, const T& y, const RSystem& s) {
+  return r_combine(x, y, s, +1.0);
+}
 template <class T>
-T r_not(const T& x) { return -x; }
+T r_not(const T& x) {
+  return -x;
+}
 
 /// n-ary R-conjunction / disjunction as a balanced binary tree:
 /// ((a0 . a1) . (a2 . a3)) . ... Requires at least one argument.
