@@ -45,11 +45,11 @@ const DemoRun kRuns[] = {
 
 /// The folder of bundled models: $SAGE_DATA_DIR/models, the source tree
 /// (build tree runs), or <prefix>/share/sage/models next to the program.
-fs::path models_folder(const char* argv0_folder) {
+fs::path models_folder(const fs::path& program_folder) {
   std::vector<fs::path> candidates;
   if (const char* env = std::getenv("SAGE_DATA_DIR")) candidates.push_back(fs::path(env) / "models");
   candidates.push_back(fs::path(SAGE_SOURCE_MODELS_DIR));
-  candidates.push_back(fs::path(argv0_folder) / ".." / "share" / "sage" / "models");
+  if (!program_folder.empty()) candidates.push_back(program_folder / ".." / "share" / "sage" / "models");
   for (const auto& c : candidates)
     if (fs::exists(c / kRuns[0].model)) return c;
   throw std::runtime_error("cannot find the bundled models (looked in " + candidates[0].string() + ", " +
@@ -75,7 +75,9 @@ int run_demo(const std::vector<std::string>& args) {
   }
   po::notify(vm);
 
-  const fs::path models = models_folder(fs::canonical("/proc/self/exe").parent_path().c_str());
+  std::error_code no_proc;  // without /proc, only the other candidates remain
+  const fs::path program = fs::canonical("/proc/self/exe", no_proc);
+  const fs::path models = models_folder(program.parent_path());
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw std::runtime_error(out_dir + ": cannot create the output folder: " + ec.message());
