@@ -74,7 +74,8 @@ class Differentiator {
       case Op::Sin: return cos(u) * d(u);
       case Op::Cos: return -(sin(u) * d(u));
       case Op::Abs: return (2.0 * step(u) - 1.0) * d(u);
-      case Op::Step: return 0.0;
+      case Op::Step:
+      case Op::Classify: return 0.0;  // piecewise constant
       case Op::PowInt: {
         const int k = static_cast<int>(f.param(0));
         return static_cast<double>(k) * pow_int(u, k - 1) * d(u);

@@ -50,6 +50,14 @@ Expr Expr::make(Op op, const Expr& a, const Expr& b, double p0, double p1) {
   return Expr(new_node(op, n >= 1 ? a.node_ : nullptr, n >= 2 ? b.node_ : nullptr, p0, p1));
 }
 
+Expr Expr::classify(std::shared_ptr<const PointClassifier> classifier) {
+  if (!classifier) throw std::invalid_argument("classify: no classifier");
+  auto n = std::make_shared<Node>();
+  n->op = Op::Classify;
+  n->classifier = std::move(classifier);
+  return Expr(std::shared_ptr<const Node>(std::move(n)));
+}
+
 int Expr::variables_used() const {
   int used = 0;
   std::unordered_set<const Node*> seen;
@@ -61,6 +69,7 @@ int Expr::variables_used() const {
     if (n->op == Op::VarX) used = std::max(used, 1);
     if (n->op == Op::VarY) used = std::max(used, 2);
     if (n->op == Op::VarZ) used = std::max(used, 3);
+    if (n->op == Op::Classify) used = std::max(used, n->classifier->dimension());
     for (const auto& a : n->args)
       if (a) stack.push_back(a.get());
   }
@@ -94,6 +103,7 @@ std::string Expr::to_string() const {
     case Op::Neg: out << "-" << arg(0).to_string(); break;
     case Op::PowInt:
     case Op::PowReal: out << arg(0).to_string() << "^" << param(0); break;
+    case Op::Classify: out << "classify(p)"; break;
     case Op::RAnd:
     case Op::ROr:
       out << op_name(op()) << "[" << rsystem().name() << "](" << arg(0).to_string() << ", " << arg(1).to_string()

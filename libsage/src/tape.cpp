@@ -78,6 +78,13 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
       default: break;
     }
     Instruction ins{e.op(), 0, 0, 0, e.param(0), e.param(1)};
+    if (e.op() == Op::Classify) {
+      if (e.classifier()->dimension() != dimension)
+        throw std::invalid_argument("a point classifier of dimension " + std::to_string(e.classifier()->dimension()) +
+                                    " in a " + std::to_string(dimension) + "D tape");
+      classifiers_.push_back(e.classifier());
+      ins.classifier = e.classifier().get();
+    }
     if (arity(e.op()) >= 1) ins.a = reg.at(e.arg(0).id());
     if (arity(e.op()) >= 2) ins.b = reg.at(e.arg(1).id());
     // Free the arguments whose last reader is this instruction, then

@@ -64,6 +64,66 @@ TEST(Formula, FunctionsAndVariables) {
   EXPECT_NO_THROW(parse_formula("x + y + z", 3));
 }
 
+// Every primitive of paper 003's table (appendix A) is writable as a
+// formula; each parses and matches the same function written in C++.
+TEST(Formula, Paper003PrimitiveTable) {
+  using std::pow;
+  using std::sin;
+  using std::sqrt;
+  struct Case {
+    const char* name;
+    const char* text;
+    double (*f)(double, double, double);
+  };
+  const Case cases[] = {
+      {"sphere", "x^2 + y^2 + z^2 - 0.7^2", [](double x, double y, double z) { return x * x + y * y + z * z - 0.49; }},
+      {"pseudo-cube", "x^500 + y^500 + z^500 - 0.7^2",
+       [](double x, double y, double z) { return pow(x, 500) + pow(y, 500) + pow(z, 500) - 0.49; }},
+      {"cylinder", "x^2 + y^2 - 1", [](double x, double y, double) { return x * x + y * y - 1; }},
+      {"torus", "(1 - sqrt(x^2 + y^2))^2 + z^2 - .125",
+       [](double x, double y, double z) { return pow(1 - sqrt(x * x + y * y), 2) + z * z - .125; }},
+      {"4-bretzel", "(x^2*(1.21 - x^2)^2*(3.8 - x^2)^3 - 10*y^2)^2 / 10 + 60*z^2 - 2",
+       [](double x, double y, double z) {
+         return pow(x * x * pow(1.21 - x * x, 2) * pow(3.8 - x * x, 3) - 10 * y * y, 2) / 10 + 60 * z * z - 2;
+       }},
+      {"tangle", "x^4 - 5*x^2 + y^4 - 5*y^2 + z^4 - 5*z^2 + 11.8",
+       [](double x, double y, double z) {
+         return pow(x, 4) - 5 * x * x + pow(y, 4) - 5 * y * y + pow(z, 4) - 5 * z * z + 11.8;
+       }},
+      {"decocube",
+       "((x^2 + y^2 - 0.8^2)^2 + (z^2 - 1)^2) * ((y^2 + z^2 - 0.8^2)^2 + (x^2 - 1)^2) * "
+       "((z^2 + x^2 - 0.8^2)^2 + (y^2 - 1)^2) - 0.02",
+       [](double x, double y, double z) {
+         const double a = pow(x * x + y * y - 0.64, 2) + pow(z * z - 1, 2);
+         const double b = pow(y * y + z * z - 0.64, 2) + pow(x * x - 1, 2);
+         const double c = pow(z * z + x * x - 0.64, 2) + pow(y * y - 1, 2);
+         return a * b * c - 0.02;
+       }},
+      {"superquadric", "x^200 + (.5*y^4 + .5*z^4)^4 - 1",
+       [](double x, double y, double z) { return pow(x, 200) + pow(.5 * pow(y, 4) + .5 * pow(z, 4), 4) - 1; }},
+      {"ellipsoid", ".25*x^2 + .25*y^2 + z^2 - 1",
+       [](double x, double y, double z) { return .25 * x * x + .25 * y * y + z * z - 1; }},
+      {"heart", "(2*x^2 + y^2 + z^2 - 1)^3 - (.1*x^2 + y^2)*z^3",
+       [](double x, double y, double z) {
+         return pow(2 * x * x + y * y + z * z - 1, 3) - (.1 * x * x + y * y) * pow(z, 3);
+       }},
+      {"citrus", "x^2 + z^2 - 4*y^3*(1 - .5*y)^3",
+       [](double x, double y, double z) { return x * x + z * z - 4 * pow(y, 3) * pow(1 - .5 * y, 3); }},
+      {"trigonometric", "(1 - sqrt(x^2 + y^2))^2 + sin(z)^3 - .125",
+       [](double x, double y, double z) { return pow(1 - sqrt(x * x + y * y), 2) + pow(sin(z), 3) - .125; }},
+  };
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.05, 1.05);
+  for (const Case& c : cases) {
+    const Expr e = parse_formula(c.text, 3);
+    for (int k = 0; k < 20; ++k) {
+      const double x = u(rng), y = u(rng), z = u(rng);
+      const double expected = c.f(x, y, z);
+      EXPECT_NEAR(test::eval(e, {x, y, z}, 3), expected, 1e-12 * (1 + std::abs(expected))) << c.name;
+    }
+  }
+}
+
 TEST(Formula, ErrorColumns) {
   EXPECT_EQ(error_column("1 + * 2"), 5u);  // '*' where an operand should be
   EXPECT_EQ(error_column("sin(x"), 6u);    // end of input: expected ')'

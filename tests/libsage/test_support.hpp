@@ -5,6 +5,7 @@
 // kAllOps, written independently of libsage, with the domain where it is
 // smooth) used by the tape and interval sweeps.
 
+#include <sage/classifier.hpp>
 #include <sage/derivative.hpp>
 #include <sage/evaluator.hpp>
 #include <sage/expression.hpp>
@@ -135,6 +136,26 @@ inline double reference_r(double xd, double yd, const RSystem& s, double sign) {
   return NAN;
 }
 
+/// Membership in the ball |p| < 1.2 (3D), with an exact box rule: the
+/// squared distance range over the box decides inside / outside.
+class BallClassifier : public PointClassifier {
+ public:
+  static constexpr double kRadius2 = 1.44;
+  static double reference(const Point& p) {
+    const double r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    return r2 < kRadius2 ? 1.0 : (r2 > kRadius2 ? -1.0 : 0.0);
+  }
+  double classify(const double* p) const override { return reference({p[0], p[1], p[2]}); }
+  Interval classify_box(const Interval* box) const override {
+    Interval r2(0.0);
+    for (int i = 0; i < 3; ++i) r2 = r2 + square(box[i]);
+    if (r2.hi < kRadius2) return Interval(1.0);
+    if (r2.lo > kRadius2) return Interval(-1.0);
+    return {-1.0, 1.0};
+  }
+  int dimension() const override { return 3; }
+};
+
 /// Every op of kAllOps with a reference and a smooth domain. R-function ops
 /// appear once per system of all_rsystems(). With chain = true the op is
 /// applied to u = x + y/2 and v = y - x/4 + z/2 (so the chain rule is
@@ -254,6 +275,15 @@ inline std::vector<OpCase> op_cases(bool chain) {
             "max", op, 0, 0, [](double a, double b) { return std::max(a, b); },
             [=](double a, double b) { return away(a - b, 1e-2); });
         break;
+      case Op::Classify: {
+        auto ball = std::make_shared<const BallClassifier>();
+        cases.push_back({"classify", op, [ball](const Expr&, const Expr&, const Expr&) { return Expr::classify(ball); },
+                         [](const Point& p) { return BallClassifier::reference(p); },
+                         [](const Point& p) {  // piecewise constant: smooth off the sphere
+                           return std::abs(std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) - 1.2) > 1e-2;
+                         }});
+        break;
+      }
       case Op::RAnd:
       case Op::ROr: {
         const double sign = op == Op::RAnd ? -1.0 : 1.0;

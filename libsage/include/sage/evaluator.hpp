@@ -14,6 +14,7 @@
 //     Evaluator<Tuple<2, 4>> tuples(tape);
 //     Tuple<2, 4> t = tuples.at({0.5, 0.25});   // value and partials to order 4
 
+#include <sage/classifier.hpp>
 #include <sage/interval.hpp>
 #include <sage/rfunction.hpp>
 #include <sage/tape.hpp>
@@ -33,6 +34,17 @@ template <int N, int K>
 struct Seed<Tuple<N, K>> {
   static Tuple<N, K> variable(int var, double value) { return Tuple<N, K>::variable(var, value); }
 };
+
+/// Point membership at the evaluation point: a constant for doubles and
+/// tuples (classified at the value), the classifier's enclosure for boxes.
+inline double classify_at(const PointClassifier& c, const double* vars) { return c.classify(vars); }
+inline Interval classify_at(const PointClassifier& c, const Interval* vars) { return c.classify_box(vars); }
+template <int N, int K>
+Tuple<N, K> classify_at(const PointClassifier& c, const Tuple<N, K>* vars) {
+  double p[3] = {0, 0, 0};
+  for (int i = 0; i < N; ++i) p[i] = vars[i].value();
+  return Tuple<N, K>(c.classify(p));
+}
 
 /// One operation of the table, generic over the scalar type.
 template <class T>
@@ -62,6 +74,7 @@ T apply(const Instruction& ins, const T& a, const T& b) {
       return r_combine(a, b, s, ins.op == Op::RAnd ? -1.0 : 1.0);
     }
     case Op::Const: return T(ins.p0);
+    case Op::Classify: break;  // needs the point: Evaluator::run handles it
     case Op::VarX:
     case Op::VarY:
     case Op::VarZ: break;  // never in code: variables live in fixed registers
@@ -99,7 +112,14 @@ class Evaluator {
 
  private:
   void run() {
-    for (const Instruction& ins : tape_->code()) regs_[ins.out] = apply<T>(ins, regs_[ins.a], regs_[ins.b]);
+    for (const Instruction& ins : tape_->code()) {
+      if (ins.op == Op::Classify) {
+        // Variables sit in registers 0..dimension-1 (tape.hpp).
+        regs_[ins.out] = classify_at(*ins.classifier, regs_.data());
+        continue;
+      }
+      regs_[ins.out] = apply<T>(ins, regs_[ins.a], regs_[ins.b]);
+    }
   }
 
   const Tape* tape_;

@@ -19,6 +19,7 @@
 // Construction folds constants and drops neutral elements (x + 0, x * 1,
 // x * 0), so derivative graphs stay small.
 
+#include <sage/classifier.hpp>
 #include <sage/opcode.hpp>
 #include <sage/rfunction.hpp>
 
@@ -36,6 +37,7 @@ struct Node {
   Op op = Op::Const;
   std::array<std::shared_ptr<const Node>, 2> args;
   std::array<double, 2> params{0.0, 0.0};
+  std::shared_ptr<const PointClassifier> classifier;  // Op::Classify only
 
   Node() = default;
   Node(const Node&) = delete;
@@ -58,6 +60,8 @@ class Expr {
   /// beyond what the operation's own constructor does).
   static Expr make(Op op, const Expr& a, const Expr& b, double p0 = 0.0, double p1 = 0.0);
   static Expr make(Op op, const Expr& a, double p0 = 0.0) { return make(op, a, Expr(), p0); }
+  /// Point membership classification xi(p) (classifier.hpp).
+  static Expr classify(std::shared_ptr<const PointClassifier> classifier);
 
   Op op() const { return node_->op; }
   Expr arg(int i) const { return Expr(node_->args[i]); }
@@ -66,6 +70,7 @@ class Expr {
   bool is_constant() const { return node_->op == Op::Const; }
   bool is_constant(double value) const { return is_constant() && node_->params[0] == value; }
   double constant_value() const { return node_->params[0]; }
+  const std::shared_ptr<const PointClassifier>& classifier() const { return node_->classifier; }
   RSystem rsystem() const { return {static_cast<RKind>(static_cast<int>(param(0))), param(1)}; }
 
   /// Highest variable index used + 1 (0 for a constant), i.e. the smallest

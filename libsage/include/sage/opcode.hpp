@@ -35,7 +35,8 @@ namespace sage {
   X(Min,     35, "min",      2)                                                  \
   X(Max,     36, "max",      2)                                                  \
   X(RAnd,    50, "r_and",    2) /* R-conjunction; p0, p1 = RSystem */            \
-  X(ROr,     51, "r_or",     2) /* R-disjunction; p0, p1 = RSystem */
+  X(ROr,     51, "r_or",     2) /* R-disjunction; p0, p1 = RSystem */          \
+  X(Classify, 60, "classify", 0) /* point membership, +1 / 0 / -1 */
 // clang-format on
 
 enum class Op : std::uint8_t {

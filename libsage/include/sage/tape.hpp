@@ -25,6 +25,7 @@ struct Instruction {
   std::uint32_t b;  // second argument register (unused for arity < 2)
   double p0;
   double p1;
+  const PointClassifier* classifier = nullptr;  // Op::Classify; owned by the Tape
 };
 
 class Tape {
@@ -51,6 +52,7 @@ class Tape {
   std::vector<Instruction> code_;
   std::vector<std::pair<std::uint32_t, double>> constants_;
   std::vector<std::uint32_t> results_;
+  std::vector<std::shared_ptr<const PointClassifier>> classifiers_;  // keeps them alive
 };
 
 }  // namespace sage
