@@ -19,45 +19,12 @@
 // (line:column for malformed JSON, a JSON pointer such as
 // /field/args/2/radius for a bad node) and what is wrong.
 
-#include <sage/expression.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/geometry/model.hpp>
 
-#include <array>
-#include <map>
 #include <optional>
-#include <stdexcept>
 #include <string>
-#include <vector>
 
 namespace sage::geometry {
-
-class ModelError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-struct Bounds {
-  std::array<double, 3> min{0, 0, 0};
-  std::array<double, 3> max{0, 0, 0};
-};
-
-/// One named or unnamed leaf of the model, for summaries.
-struct PrimitiveInfo {
-  std::string name;     // empty when unnamed
-  std::string type;     // "disk", "formula", ...
-  std::string pointer;  // JSON pointer of its node
-};
-
-struct Model {
-  std::string source;  // file name, for messages
-  std::string name;
-  int dimension = 2;
-  RSystem rfunction = RSystem::r0();  // default for operators without their own
-  std::optional<Bounds> bounds;
-  Expr field;
-  std::map<std::string, Expr> named;  // named nodes, by name
-  std::vector<PrimitiveInfo> primitives;
-};
 
 struct ModelOptions {
   /// Replaces the model's default R-function (nodes with their own

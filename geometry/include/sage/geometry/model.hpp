@@ -1,0 +1,75 @@
+#pragma once
+// Model: what every geometry source (JSON CSG model, GIS polygons, closed
+// triangle meshes) becomes -- one expression of the field core plus what a
+// user should know about how it was made.
+
+#include <sage/expression.hpp>
+#include <sage/rfunction.hpp>
+
+#include <array>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sage::geometry {
+
+/// Bad input: the message names the file, the place in it (line:column,
+/// JSON pointer, feature/ring/vertex, face) and what is wrong.
+class ModelError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Bounds {
+  std::array<double, 3> min{0, 0, 0};
+  std::array<double, 3> max{0, 0, 0};
+};
+
+/// One named or unnamed leaf of the model, for summaries.
+struct PrimitiveInfo {
+  std::string name;     // empty when unnamed
+  std::string type;     // "disk", "formula", "edge", "face", ...
+  std::string pointer;  // where it came from (JSON pointer, ring/vertex, face)
+};
+
+struct Model {
+  std::string source;  // file name, for messages
+  std::string name;
+  int dimension = 2;
+  RSystem rfunction = RSystem::r0();  // default for operators without their own
+  std::optional<Bounds> bounds;
+  Expr field;
+  std::map<std::string, Expr> named;  // named nodes, by name
+  std::vector<PrimitiveInfo> primitives;
+  /// Facts for `sage info` and the field summary: projection used,
+  /// validation findings and repairs, well-formedness certificate, ...
+  std::vector<std::string> notes;
+};
+
+/// Options shared by every geometry source; each reads what applies to it.
+struct LoadOptions {
+  /// Replaces the default R-function system.
+  std::optional<RSystem> rfunction;
+  /// Polygons and meshes: "csg" (well-formed CSG) or "brep" (trimmed
+  /// edges/faces glued by R-conjunction, signed by point membership).
+  std::string method = "csg";
+  /// B-rep fields: orthogonalize the trimming at non-orthogonal meetings.
+  bool orthogonalize = false;
+  /// Fix what can be fixed safely (orientation is always fixed).
+  bool repair = false;
+  /// GIS: features to use, by index (empty: all), and an OGR attribute
+  /// filter such as "NAME = 'Wisconsin'". Selected features are united.
+  std::vector<long long> features;
+  std::optional<std::string> where;
+  std::optional<std::string> layer;
+};
+
+/// Reads any geometry source sage knows, picked by extension (.json model
+/// files; .geojson, .shp, .gpkg and other OGR formats; .off, .stl, .obj,
+/// .ply meshes). A .json file holding GeoJSON is read as GIS data.
+/// Throws ModelError.
+Model load_model(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace sage::geometry

@@ -1,0 +1,1 @@
+# Tests of the polygon (GIS) part of sage_geometry (added to geometry_tests).
