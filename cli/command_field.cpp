@@ -16,17 +16,22 @@ int run_field(const std::vector<std::string>& args) {
   std::string grid, bounds, rfunction;
   po::options_description options(
       "Usage: sage field MODEL -o OUT.vtu|OUT.vti [options]\n"
+      "MODEL: a JSON model, GIS vector data (.geojson, .shp, .gpkg, ...) or a mesh\n"
+      "(.off, .stl, .obj, .ply).\n"
       "Samples the model's field and its derivatives on a regular grid and writes\n"
       "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2).\n\n"
       "Options");
-  options.add_options()("help,h", "show this help")("output,o", po::value(&job.output_path)->required(),
-                                                    "output file, .vtu or .vti")(
-      "grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)")(
-      "bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")")(
-      "order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)")(
-      "rfunction", po::value(&rfunction),
-      "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)")("quiet,q",
-                                                                                      "no progress or summary");
+  auto add = options.add_options();
+  add("help,h", "show this help");
+  add("output,o", po::value(&job.output_path)->required(), "output file, .vtu or .vti");
+  add("grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)");
+  add("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")");
+  add("order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)");
+  add("rfunction", po::value(&rfunction),
+      "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
+  add("quiet,q", "no progress or summary");
+  std::string where, layer;
+  add_source_options(options, job.load, where, layer);
   po::options_description hidden;
   hidden.add_options()("model", po::value(&job.model_path)->required());
   po::options_description all;
@@ -41,6 +46,7 @@ int run_field(const std::vector<std::string>& args) {
     return 0;
   }
   po::notify(vm);
+  finish_source_options(vm, job.load, where, layer);
   if (vm.count("grid")) job.grid = grid;
   if (vm.count("bounds")) job.bounds = bounds;
   if (vm.count("rfunction")) job.rfunction = rfunction;

@@ -17,8 +17,13 @@ namespace sage::cli {
 int run_info(const std::vector<std::string>& args) {
   std::string model_path, rfunction;
   po::options_description options("Usage: sage info MODEL [options]\nPrints a summary of a model.\n\nOptions");
-  options.add_options()("help,h", "show this help")("rfunction", po::value(&rfunction),
-                                                    "default R-function (as for sage field)");
+  geometry::LoadOptions load;
+  std::string where, layer;
+  auto add = options.add_options();
+  add("help,h", "show this help");
+  add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
+  add("no-certify", "polygons: skip the well-formedness certificate");
+  add_source_options(options, load, where, layer);
   po::options_description hidden;
   hidden.add_options()("model", po::value(&model_path)->required());
   po::options_description all;
@@ -32,9 +37,11 @@ int run_info(const std::vector<std::string>& args) {
     return 0;
   }
   po::notify(vm);
+  finish_source_options(vm, load, where, layer);
+  load.certify = vm.count("no-certify") == 0;
 
   const geometry::Model model =
-      load_model(model_path, vm.count("rfunction") ? std::optional<std::string>(rfunction) : std::nullopt);
+      load_model(model_path, vm.count("rfunction") ? std::optional<std::string>(rfunction) : std::nullopt, load);
   const Tape tape(model.field, model.dimension);
   std::cout << "model:       " << model_path << (model.name.empty() ? "" : " (" + model.name + ")") << "\n"
             << "dimension:   " << model.dimension << "\n"
@@ -42,6 +49,7 @@ int run_info(const std::vector<std::string>& args) {
             << "primitives:  " << model.primitives.size() << "\n";
   for (const auto& p : model.primitives)
     std::cout << "  " << p.type << (p.name.empty() ? "" : " \"" + p.name + "\"") << " at " << p.pointer << "\n";
+  for (const auto& note : model.notes) std::cout << "note:        " << note << "\n";
   std::cout << "expression:  " << model.field.node_count() << " nodes, tape of " << tape.code().size()
             << " instructions over " << tape.register_count() << " registers\n";
   if (model.bounds) {

@@ -20,8 +20,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 }  // namespace
 
-geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction) {
-  geometry::ModelOptions options;
+geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction,
+                           geometry::LoadOptions options) {
   if (rfunction) {
     try {
       options.rfunction = RSystem::parse(*rfunction);
@@ -29,7 +29,28 @@ geometry::Model load_model(const std::string& path, const std::optional<std::str
       throw UsageError{std::string("--rfunction: ") + e.what()};
     }
   }
-  return geometry::read_model(path, options);
+  if (options.method != "csg" && options.method != "brep")
+    throw UsageError{"--method must be csg or brep, not '" + options.method + "'"};
+  return geometry::load_model(path, options);
+}
+
+void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
+                        std::string& where, std::string& layer) {
+  namespace po = boost::program_options;
+  auto add = description.add_options();
+  add("method", po::value(&options.method)->default_value("csg"),
+      "polygons and meshes: csg (well-formed CSG) or brep (trimmed edges/faces)");
+  add("feature", po::value(&options.features)->multitoken(), "GIS: feature numbers to use (0-based; repeatable)");
+  add("where", po::value(&where), "GIS: attribute filter, e.g. \"NAME = 'Wisconsin'\"");
+  add("layer", po::value(&layer), "GIS: layer name (default: the first)");
+  add("repair", po::bool_switch(&options.repair), "fix invalid geometry where that is safe (GEOS MakeValid)");
+  add("orthogonalize", po::bool_switch(&options.orthogonalize), "B-rep: orthogonalize trimming at corners");
+}
+
+void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
+                           const std::string& where, const std::string& layer) {
+  if (vm.count("where")) options.where = where;
+  if (vm.count("layer")) options.layer = layer;
 }
 
 Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
@@ -61,7 +82,7 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
   if (job.order < 1 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 1 to " + std::to_string(kMaxSampleOrder)};
-  const geometry::Model model = load_model(job.model_path, job.rfunction);
+  const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   FieldReport report;
   report.grid = grid_for(model, job.grid, job.bounds);
 

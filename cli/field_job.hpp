@@ -2,8 +2,10 @@
 // One field job: read a model, sample its field on a grid, write a VTK
 // file. Shared by `sage field` and `sage demo`.
 
-#include <sage/geometry/csg_model.hpp>
+#include <sage/geometry/model.hpp>
 #include <sage/grid.hpp>
+
+#include <boost/program_options.hpp>
 
 #include <optional>
 #include <string>
@@ -16,6 +18,7 @@ struct FieldJob {
   std::optional<std::string> grid;       // "200x200" / "64x64x64"
   std::optional<std::string> bounds;     // "xmin,xmax,ymin,ymax[,zmin,zmax]"
   std::optional<std::string> rfunction;  // overrides the model's default
+  geometry::LoadOptions load;            // GIS and mesh options
   int order = 1;
   bool show_progress = true;
 };
@@ -27,8 +30,17 @@ struct FieldReport {
   double seconds_sampling = 0, seconds_writing = 0;
 };
 
-/// Reads the model with the job's options (throws ModelError).
-geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction);
+/// Reads any geometry source with the job's options (throws ModelError).
+geometry::Model load_model(const std::string& path, const std::optional<std::string>& rfunction,
+                           geometry::LoadOptions options = {});
+
+/// Adds the options for GIS data and meshes (--method, --feature, --where,
+/// --layer, --repair, --orthogonalize) to a command's options, writing
+/// into `options`; call finish_source_options after parsing.
+void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
+                        std::string& where, std::string& layer);
+void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
+                           const std::string& where, const std::string& layer);
 
 /// The grid for a model: --grid / --bounds when given, else the model's
 /// bounds and a default resolution (200x200 or 64x64x64).

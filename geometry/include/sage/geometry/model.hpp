@@ -64,6 +64,9 @@ struct LoadOptions {
   std::vector<long long> features;
   std::optional<std::string> where;
   std::optional<std::string> layer;
+  /// Polygons (CSG): certify well-formedness by interval arithmetic
+  /// (well_formedness.hpp) and add the result to the notes.
+  bool certify = false;
 };
 
 /// Reads any geometry source sage knows, picked by extension (.json model

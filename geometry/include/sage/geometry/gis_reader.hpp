@@ -1,0 +1,32 @@
+#pragma once
+// Reading polygons from GIS vector data with GDAL/OGR, projected to a
+// planar metric system when the data is longitude/latitude.
+//
+// Projection: geographic data (lon/lat on any datum) is transformed with
+// OGR/PROJ to an azimuthal equidistant projection centred on the centre of
+// the selected features' bounding box (metres, WGS84 ellipsoid): distances
+// from the centre are exact and distortion stays small over a region the
+// size of a state. Projected data is used as is; data without a coordinate
+// system is assumed planar. The choice is reported in GisPolygons::crs.
+
+#include <sage/geometry/model.hpp>
+#include <sage/geometry/polygon.hpp>
+
+#include <string>
+#include <vector>
+
+namespace sage::geometry {
+
+struct GisPolygons {
+  PolygonSet polygons;
+  std::string crs;                 // what coordinate system the polygons are in, and how
+  std::vector<std::string> notes;  // features used, unions and repairs done
+};
+
+/// Reads the polygons of the selected features (options.features,
+/// options.where, options.layer); several features are united (GEOS).
+/// With options.repair, invalid geometry is made valid (GEOS MakeValid).
+/// Throws ModelError naming the file and the feature.
+GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& options);
+
+}  // namespace sage::geometry

@@ -1,0 +1,38 @@
+#pragma once
+// Well-formed CSG of polygons by the decreasing convex hull (convex
+// deficiency tree; paper 004, sec. 3.1 and 5.1).
+//
+// For a chain of a ring whose end points are consecutive vertices of its
+// convex hull (the whole ring at the top), walk the hull vertices along the
+// chain. Each step between consecutive hull vertices is either an edge of
+// the ring -- its normalized halfplane, interior on the left -- or a
+// sub-chain (a pocket), treated recursively. The steps are combined by
+// R-conjunction when the chain's hull lies on its inner side (the whole
+// ring, and every second level of pockets) and by R-disjunction otherwise.
+// The formula is monotone and uses each edge's halfplane exactly once.
+// Holes enter as AND NOT, polygons are united.
+//
+// Rings must be validated (polygon_validation.hpp): simple, outer rings
+// counter-clockwise, holes clockwise, no collinear consecutive vertices.
+
+#include <sage/expression.hpp>
+#include <sage/geometry/polygon.hpp>
+#include <sage/rfunction.hpp>
+
+namespace sage::geometry {
+
+struct CsgStatistics {
+  std::size_t halfplanes = 0;  // edges used (each exactly once)
+  int depth = 0;               // deepest pocket nesting
+};
+
+/// The field of one ring's interior (counter-clockwise ring).
+Expr ring_csg(const Ring& ring, const RSystem& system, CsgStatistics* statistics = nullptr);
+
+/// The field of a polygon set: union of (outer AND NOT holes).
+Expr polygon_csg(const PolygonSet& polygons, const RSystem& system, CsgStatistics* statistics = nullptr);
+
+/// The normalized halfplane left of the directed edge a -> b.
+Expr edge_halfplane(const Point2& a, const Point2& b);
+
+}  // namespace sage::geometry

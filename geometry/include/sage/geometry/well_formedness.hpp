@@ -1,0 +1,28 @@
+#pragma once
+// A certificate that a polygon field has no zeros away from the boundary
+// (the definition of a well-formed CSG translation, paper 004 sec. 3.1),
+// by interval arithmetic over an adaptive covering of the bounds: every
+// box either has an interval of omega that excludes 0, or is at most
+// `band` wide and lies within `band` of an edge.
+
+#include <sage/expression.hpp>
+#include <sage/geometry/model.hpp>
+#include <sage/geometry/polygon.hpp>
+
+#include <string>
+
+namespace sage::geometry {
+
+struct Certificate {
+  bool certified = false;
+  std::size_t boxes = 0;  // boxes evaluated
+  double band = 0;        // zeros may remain only this close to an edge
+  std::string text;       // one line for `sage info`
+};
+
+/// Tries to certify `field` (2D) over `bounds`; gives up after `budget`
+/// boxes (then certified = false and the text says so).
+Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polygons, const Bounds& bounds, double band,
+                                      std::size_t budget = 4'000'000);
+
+}  // namespace sage::geometry
