@@ -96,6 +96,12 @@ struct Edge {
   P2 a, b;
 };
 
+// Collinear segments that share more than a point.
+bool overlap_along_line(const Edge& e, const Edge& f) {
+  const auto common = CGAL::intersection(K::Segment_2(e.a, e.b), K::Segment_2(f.a, f.b));
+  return common && boost::get<K::Segment_2>(&*common) != nullptr;
+}
+
 void check_intersections(const std::vector<Edge>& edges, const std::string& source, ValidationReport& report) {
   double x0 = edges[0].a.x(), x1 = x0, y0 = edges[0].a.y(), y1 = y0;
   for (const Edge& e : edges) {
@@ -134,7 +140,7 @@ void check_intersections(const std::vector<Edge>& edges, const std::string& sour
         const auto o3 = CGAL::orientation(f.a, f.b, e.a), o4 = CGAL::orientation(f.a, f.b, e.b);
         const std::string place =
             e.ring->where(e.ring->source_vertex[e.index]) + " and " + f.ring->where(f.ring->source_vertex[f.index]);
-        if (o1 == CGAL::COLLINEAR && o2 == CGAL::COLLINEAR)
+        if (o1 == CGAL::COLLINEAR && o2 == CGAL::COLLINEAR && overlap_along_line(e, f))
           throw ModelError(source + ": edges overlap along a line: the edge after " + place +
                            " (use --repair to fix invalid geometry)");
         if (o1 != CGAL::COLLINEAR && o2 != CGAL::COLLINEAR && o3 != CGAL::COLLINEAR && o4 != CGAL::COLLINEAR)

@@ -17,7 +17,7 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
   c.band = band;
   using Box = std::array<Interval, 2>;
   std::vector<Box> level{{Interval(bounds.min[0], bounds.max[0]), Interval(bounds.min[1], bounds.max[1])}};
-  bool failed = false;
+  bool failed = false, proven = false;
   Box failure{};
   while (!level.empty() && !failed) {
     if (c.boxes + level.size() > budget) break;
@@ -26,6 +26,18 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
 #pragma omp parallel
     {
       Evaluator<Interval> eval(tape);
+      Evaluator<double> values(tape);
+      // Does omega take both signs (or 0) at the corners and centre of b?
+      auto changes_sign = [&values](const Box& b) {
+        int positive = 0, negative = 0;
+        for (double fx : {0.0, 0.5, 1.0})
+          for (double fy : {0.0, 0.5, 1.0}) {
+            const double v = values.at({b[0].lo + fx * b[0].width(), b[1].lo + fy * b[1].width(), 0.0});
+            positive += v >= 0;
+            negative += v <= 0;
+          }
+        return positive > 0 && negative > 0;
+      };
 #pragma omp for schedule(dynamic, 64)
       for (std::size_t i = 0; i < level.size(); ++i) {
         const Box& b = level[i];
@@ -34,6 +46,12 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
         const double width = std::max(b[0].width(), b[1].width());
         const Box grown{Interval(b[0].lo - band, b[0].hi + band), Interval(b[1].lo - band, b[1].hi + band)};
         if (width <= band && edges.classify_box(grown.data()).width() > 0) continue;  // within the band of an edge
+        // Away from the edges: a sign change between sample points proves
+        // a zero there (omega is continuous and the box meets no edge).
+        if (edges.classify_box(grown.data()).width() == 0 && changes_sign(b)) {
+          split[i] = 3;
+          continue;
+        }
         // Interval bounds overestimate in proportion to the box size, so a
         // box away from the edges is split further before it counts as a
         // possible zero.
@@ -46,8 +64,9 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
     }
     std::vector<Box> next;
     for (std::size_t i = 0; i < level.size(); ++i) {
-      if (split[i] == 2) {
+      if (split[i] >= 2) {
         failed = true;
+        proven = split[i] == 3;
         failure = level[i];
         break;
       }
@@ -64,8 +83,8 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
   std::ostringstream text;
   text.precision(9);
   if (failed) {
-    text << "NOT well-formed: omega may vanish away from the boundary near (" << failure[0].mid() << ", "
-         << failure[1].mid() << ")";
+    text << "NOT well-formed: omega " << (proven ? "vanishes" : "may vanish") << " away from the boundary near ("
+         << failure[0].mid() << ", " << failure[1].mid() << ")";
   } else if (!level.empty()) {
     text << "not certified: gave up after " << c.boxes << " interval boxes";
   } else {

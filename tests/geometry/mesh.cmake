@@ -1,1 +1,3 @@
 # Tests of the mesh part of sage_geometry (added to geometry_tests).
+target_sources(geometry_tests PRIVATE
+  mesh_test.cpp)

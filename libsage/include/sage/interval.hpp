@@ -45,18 +45,24 @@ struct Interval {
 namespace detail {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Moves x down (up) by at least `ulps` units in the last place. For finite
-// x, |x| * 2^-52 is between one and two ulps of x, so subtracting it (plus
-// the smallest subnormal, for x = 0) lands at least one representable
-// number lower whatever the rounding; this is several times faster than
-// std::nextafter. Infinities and NaN pass through.
+// x, |x| * 2^-52 is between one and two ulps of x, so subtracting it lands
+// at least one representable number lower whatever the rounding; the step
+// is at least DBL_MIN (the smallest normal number), which covers x = 0
+// and keeps subnormal operands, which are very slow on x86, out of the
+// arithmetic. Several times faster than std::nextafter. Infinities and
+// NaN pass through.
+inline double outward_step(double x) {
+  const double d = std::abs(x) * 0x1p-52;
+  return d > std::numeric_limits<double>::min() ? d : std::numeric_limits<double>::min();
+}
 inline double down(double x, int ulps = 1) {
   if (!std::isfinite(x)) return x;
-  for (int i = 0; i < ulps; ++i) x -= std::abs(x) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
+  for (int i = 0; i < ulps; ++i) x -= outward_step(x);
   return x;
 }
 inline double up(double x, int ulps = 1) {
   if (!std::isfinite(x)) return x;
-  for (int i = 0; i < ulps; ++i) x += std::abs(x) * 0x1p-52 + std::numeric_limits<double>::denorm_min();
+  for (int i = 0; i < ulps; ++i) x += outward_step(x);
   return x;
 }
 inline Interval outward(double lo, double hi, int ulps = 1) { return {down(lo, ulps), up(hi, ulps)}; }

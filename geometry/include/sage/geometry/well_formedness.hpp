@@ -3,7 +3,9 @@
 // (the definition of a well-formed CSG translation, paper 004 sec. 3.1),
 // by interval arithmetic over an adaptive covering of the bounds: every
 // box either has an interval of omega that excludes 0, or is at most
-// `band` wide and lies within `band` of an edge.
+// `band` wide and lies within `band` of an edge. A box that meets no edge
+// but where omega changes sign between sample points proves a spurious
+// zero: the field is then reported NOT well-formed.
 
 #include <sage/expression.hpp>
 #include <sage/geometry/model.hpp>
@@ -23,6 +25,6 @@ struct Certificate {
 /// Tries to certify `field` (2D) over `bounds`; gives up after `budget`
 /// boxes (then certified = false and the text says so).
 Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polygons, const Bounds& bounds, double band,
-                                      std::size_t budget = 4'000'000);
+                                      std::size_t budget = 1'000'000);
 
 }  // namespace sage::geometry

@@ -1,0 +1,101 @@
+#pragma once
+// Internal to the mesh part of sage_geometry: the triangle soup shared by
+// the reader, the validation, the field builders and the classifier.
+//
+// Pipeline (mesh_model.cpp):
+//   read_mesh_soup       mesh_reader.cpp      file -> points + triangles
+//   validate_mesh        mesh_validation.cpp  exact checks, outward orientation
+//   make_mesh_classifier mesh_classifier.cpp  xi(p) with Side_of_triangle_mesh
+//   brep_field / convex_csg_field  mesh_field.cpp, mesh_csg.cpp
+
+#include <sage/classifier.hpp>
+#include <sage/expression.hpp>
+#include <sage/geometry/model.hpp>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+
+#include <array>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sage::geometry::mesh {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using SurfaceMesh = CGAL::Surface_mesh<Point>;
+using Triangle = std::array<std::size_t, 3>;
+
+/// A triangle soup read from a file. Polygons with more than three vertices
+/// are triangulated; origin[i] is the index, in the file, of the face that
+/// triangle i comes from (for messages).
+struct Soup {
+  std::string path;
+  std::vector<Point> points;
+  std::vector<Triangle> triangles;
+  std::vector<std::size_t> origin;
+  std::size_t file_faces = 0;
+  std::vector<std::string> notes;
+
+  /// "face 12" or "face 12 (triangle 3 of its triangulation)".
+  std::string face_name(std::size_t triangle) const;
+};
+
+/// Reads OFF, STL, OBJ or PLY with CGAL's readers. With `repair`, merges
+/// duplicated points and drops duplicated or invalid polygons first
+/// (PMP::repair_polygon_soup), reporting counts. Throws ModelError naming
+/// the file (unreadable, malformed, empty, a bad index or coordinate, a
+/// polygon that is not planar or cannot be triangulated).
+Soup read_mesh_soup(const std::string& path, bool repair);
+
+/// What validation found (beyond the faults, which throw).
+struct Validated {
+  SurfaceMesh mesh;                // face i = soup triangle i, outward
+  std::size_t reversed_faces = 0;  // faces whose orientation was fixed
+  std::size_t components = 0;      // connected components
+  long long euler_characteristic = 0;
+  long long genus = 0;  // total over the components
+};
+
+/// Exact checks in this order, each fault a ModelError naming the file and
+/// the face (and vertices): degenerate faces (collinear vertices), border
+/// edges (open mesh), non-manifold edges, non-manifold vertices,
+/// non-orientable surfaces, self-intersections. Orientation is made
+/// consistent and outward (PMP::orient_to_bound_a_volume); the soup's
+/// triangles are rewritten accordingly. With `repair`, degenerate faces
+/// are removed (PMP::remove_degenerate_faces) when that leaves a valid
+/// closed mesh, and the soup is rebuilt from the repaired mesh.
+Validated validate_mesh(Soup& soup, bool repair);
+
+/// xi for a closed, outward oriented triangle mesh: exact point membership
+/// (CGAL::Side_of_triangle_mesh over a prebuilt AABB tree, safe for
+/// concurrent queries) and box classification (a box that meets no
+/// triangle is wholly inside or outside, as its centre is).
+std::shared_ptr<const PointClassifier> make_mesh_classifier(const std::vector<Point>& points,
+                                                            const std::vector<Triangle>& triangles);
+
+/// Trimmed-face field w >= 0 (zero exactly on the surface): per triangle the
+/// smooth normalized trimming of its plane by its extruded region, glued
+/// with r_conjunction_n (balanced tree, triangles in soup order).
+/// `trim_system` builds the region t (must be normalized on its boundary).
+Expr brep_distance(const std::vector<Point>& points, const std::vector<Triangle>& triangles, const RSystem& glue_system,
+                   const RSystem& trim_system, bool orthogonalize);
+
+/// The well-formed CSG of a convex polyhedron: one halfspace per distinct
+/// face plane (coplanar adjacent faces merged), R-conjunction of them.
+struct ConvexCsg {
+  Expr field;
+  std::vector<std::vector<std::size_t>> planes;  // triangles of each plane, by first triangle
+  std::vector<std::array<double, 3>> normals;    // outward unit normal of each plane
+  std::vector<std::array<double, 3>> anchors;    // a point of each plane
+};
+
+/// Exactly checks convexity of a closed, outward oriented, connected mesh;
+/// returns nullopt (with the reason) when it is not convex.
+std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                                    const RSystem& system, std::string& reason);
+
+}  // namespace sage::geometry::mesh

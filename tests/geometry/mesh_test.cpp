@@ -1,0 +1,642 @@
+// Closed triangle meshes to fields (geometry/src/mesh_*.cpp):
+//  - on real meshes the field's sign agrees with CGAL's exact side-of-mesh
+//    classification, and |grad| = 1 on the faces;
+//  - convex polyhedra give the R-conjunction of their planes, each once;
+//  - every validation fault is a ModelError naming the file and the face.
+
+#include <sage/evaluator.hpp>
+#include <sage/geometry/mesh_model.hpp>
+#include <sage/primitives.hpp>
+
+#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Surface_mesh.h>
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+
+namespace {
+
+namespace fs = std::filesystem;
+using sage::geometry::load_mesh;
+using sage::geometry::LoadOptions;
+using sage::geometry::Model;
+using sage::geometry::ModelError;
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Mesh = CGAL::Surface_mesh<Point>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
+using Vec3 = std::array<double, 3>;
+
+std::string shared_mesh(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/meshes/" + name; }
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A scratch directory for the small files the tests write.
+fs::path scratch() {
+  static const fs::path dir = [] {
+    fs::path d = fs::temp_directory_path() / ("sage_mesh_test_" + std::to_string(::getpid()));
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const fs::path p = scratch() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// An OFF file from vertices and faces.
+std::string write_off(const std::string& name, const std::vector<Vec3>& vertices,
+                      const std::vector<std::vector<int>>& faces) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "OFF\n" << vertices.size() << " " << faces.size() << " 0\n";
+  for (const auto& v : vertices) s << v[0] << " " << v[1] << " " << v[2] << "\n";
+  for (const auto& f : faces) {
+    s << f.size();
+    for (int i : f) s << " " << i;
+    s << "\n";
+  }
+  return write_file(name, s.str());
+}
+
+// A regular tetrahedron-like solid, outward: vertices 0..3.
+const std::vector<Vec3> kTet = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+const std::vector<std::vector<int>> kTetFaces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+
+// Expects load_mesh to fail with a message starting with the path and
+// containing every piece.
+void expect_error(const std::string& path, std::initializer_list<std::string> pieces, LoadOptions options = {}) {
+  try {
+    load_mesh(path, options);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const ModelError& e) {
+    const std::string what = e.what();
+    std::cout << "[mesh error] " << what << "\n";
+    EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
+    for (const auto& piece : pieces)
+      EXPECT_NE(what.find(piece), std::string::npos) << "'" << piece << "' not in: " << what;
+  }
+}
+
+LoadOptions with_method(const std::string& method) {
+  LoadOptions o;
+  o.method = method;
+  return o;
+}
+
+bool has_note(const Model& m, const std::string& piece) {
+  for (const auto& n : m.notes)
+    if (n.find(piece) != std::string::npos) return true;
+  return false;
+}
+
+std::string all_notes(const Model& m) {
+  std::string s;
+  for (const auto& n : m.notes) s += n + "\n";
+  return s;
+}
+
+// Number of nodes of each op in the DAG.
+std::map<sage::Op, int> op_counts(const sage::Expr& root) {
+  std::map<sage::Op, int> counts;
+  std::set<const sage::Node*> seen;
+  std::vector<sage::Expr> stack{root};
+  while (!stack.empty()) {
+    const sage::Expr e = stack.back();
+    stack.pop_back();
+    if (!seen.insert(e.id()).second) continue;
+    ++counts[e.op()];
+    for (int i = 0; i < sage::arity(e.op()); ++i) stack.push_back(e.arg(i));
+  }
+  return counts;
+}
+
+// ---- real meshes: sign against CGAL, unit gradient on the faces -------------
+
+struct Reference {
+  Mesh mesh;
+  std::unique_ptr<Tree> tree;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<Mesh, K>> side;
+  explicit Reference(const std::string& path) {
+    if (!CGAL::Polygon_mesh_processing::IO::read_polygon_mesh(path, mesh))
+      throw std::runtime_error("cannot read " + path);
+    tree = std::make_unique<Tree>(faces(mesh).first, faces(mesh).second, mesh);
+    tree->accelerate_distance_queries();
+    side = std::make_unique<CGAL::Side_of_triangle_mesh<Mesh, K>>(mesh);
+  }
+};
+
+struct SignReport {
+  int points = 0, mismatches = 0, skipped = 0;
+};
+
+// Field sign vs CGAL's side of mesh at n random points of the model's
+// bounds, evaluated on two threads (one Evaluator each, one shared tape
+// and classifier). Points within `band` of the surface are skipped.
+SignReport check_signs(const Model& m, const sage::Tape& tape, const Reference& ref, int n, double band,
+                       unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<Vec3> pts(n);
+  for (auto& p : pts)
+    for (int i = 0; i < 3; ++i) p[i] = std::uniform_real_distribution<double>(m.bounds->min[i], m.bounds->max[i])(rng);
+  std::vector<double> values(n);
+  auto work = [&](int begin, int end) {
+    sage::Evaluator<double> eval(tape);
+    for (int i = begin; i < end; ++i) values[i] = eval.at(pts[i]);
+  };
+  std::thread other(work, 0, n / 2);
+  work(n / 2, n);
+  other.join();
+  SignReport r;
+  for (int i = 0; i < n; ++i) {
+    const Point p(pts[i][0], pts[i][1], pts[i][2]);
+    const auto side = (*ref.side)(p);
+    if (side == CGAL::ON_BOUNDARY || ref.tree->squared_distance(p) < band * band) {
+      ++r.skipped;
+      continue;
+    }
+    ++r.points;
+    const double expected = side == CGAL::ON_BOUNDED_SIDE ? 1.0 : -1.0;
+    if (!(values[i] * expected > 0)) ++r.mismatches;
+  }
+  return r;
+}
+
+struct GradReport {
+  int points = 0;
+  double max_error = 0, max_direction_error = 0;
+};
+
+// |grad omega| at points offset `offset` along the inner normal from points
+// of random faces, at barycentric coordinates >= 0.2 (away from edges).
+GradReport check_gradients(const sage::Tape& tape, const Mesh& mesh, int n, double offset, unsigned seed) {
+  sage::Evaluator<sage::Tuple<3, 1>> eval(tape);
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick(0, mesh.number_of_faces() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  GradReport r;
+  for (int k = 0; k < n; ++k) {
+    const Mesh::Face_index f(static_cast<Mesh::size_type>(pick(rng)));
+    std::vector<Point> v;
+    for (auto vi : mesh.vertices_around_face(mesh.halfedge(f))) v.push_back(mesh.point(vi));
+    const auto normal = CGAL::cross_product(v[1] - v[0], v[2] - v[0]);
+    const double len = std::sqrt(normal.squared_length());
+    const Vec3 inner{-normal.x() / len, -normal.y() / len, -normal.z() / len};
+    double l[3] = {unit(rng), unit(rng), unit(rng)};
+    const double sum = l[0] + l[1] + l[2];
+    Vec3 p{0, 0, 0};
+    for (int j = 0; j < 3; ++j) {
+      const double lj = 0.2 + 0.4 * l[j] / sum;
+      for (int i = 0; i < 3; ++i) p[i] += lj * v[j][i];
+    }
+    for (int i = 0; i < 3; ++i) p[i] += offset * inner[i];
+    const auto t = eval.at(p);
+    const auto g = t.gradient();
+    const double norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    EXPECT_GT(t.value(), 0.0) << "face " << f.idx();
+    r.max_error = std::max(r.max_error, std::abs(norm - 1.0));
+    r.max_direction_error =
+        std::max(r.max_direction_error, std::abs(1.0 - (g[0] * inner[0] + g[1] * inner[1] + g[2] * inner[2]) / norm));
+    ++r.points;
+  }
+  return r;
+}
+
+void check_real_mesh(const std::string& name, int sign_points, int grad_points) {
+  const std::string path = shared_mesh(name);
+  auto t0 = std::chrono::steady_clock::now();
+  const Model m = load_mesh(path, {});  // default method "csg": falls back to brep
+  const double load_time = seconds_since(t0);
+  EXPECT_EQ(m.dimension, 3);
+  EXPECT_TRUE(has_note(m, "falling back")) << all_notes(m);
+  EXPECT_TRUE(has_note(m, "method: brep")) << all_notes(m);
+  ASSERT_EQ(m.primitives.size(), 1u);
+  EXPECT_EQ(m.primitives[0].type, "faces");
+  const sage::Tape tape(m.field, 3);
+  const Reference ref(path);
+  const double diag = std::hypot(m.bounds->max[0] - m.bounds->min[0], m.bounds->max[1] - m.bounds->min[1],
+                                 m.bounds->max[2] - m.bounds->min[2]);
+  t0 = std::chrono::steady_clock::now();
+  const SignReport s = check_signs(m, tape, ref, sign_points, 1e-9 * diag, 7);
+  const double sign_time = seconds_since(t0);
+  EXPECT_EQ(s.mismatches, 0) << name;
+  t0 = std::chrono::steady_clock::now();
+  const double offset = 1e-12 * diag;
+  const GradReport g = check_gradients(tape, ref.mesh, grad_points, offset, 11);
+  const double grad_time = seconds_since(t0);
+  EXPECT_LT(g.max_error, 1e-6) << name;
+  EXPECT_LT(g.max_direction_error, 1e-6) << name;
+  // At a larger offset the deviation is O(offset / w_j) (the R0 gluing's
+  // d(x AND y)/dx = 1 - x / sqrt(x^2 + y^2)), so it vanishes in the limit.
+  const GradReport g9 = check_gradients(tape, ref.mesh, std::min(grad_points, 20), 1e-9, 11);
+  EXPECT_LT(g9.max_error, 1e-4) << name;
+  std::cout << "[mesh] " << name << ": load+field " << load_time << " s, tape " << tape.code().size()
+            << " instructions; signs at " << s.points << " points (" << s.skipped << " in the band) in " << sign_time
+            << " s (2 threads): " << s.mismatches << " mismatches; |grad| at " << g.points << " face points, offset "
+            << offset << ": max ||grad|-1| = " << g.max_error << " (" << grad_time
+            << " s); offset 1e-9: " << g9.max_error << "\n";
+}
+
+// Point counts keep the suite at a few seconds in Release (the plain tape
+// costs about 10 ns per instruction and point; the elephant's tape has
+// 2e5 instructions). SAGE_MESH_TEST_FULL=1 runs 10^4 sign points and 300
+// gradient points on every mesh.
+int count(int quick) { return std::getenv("SAGE_MESH_TEST_FULL") ? std::max(quick, 10000) : quick; }
+int grad_count(int quick) { return std::getenv("SAGE_MESH_TEST_FULL") ? 300 : quick; }
+
+TEST(MeshReal, JointSignsAndGradient) { check_real_mesh("joint.off", count(5000), grad_count(100)); }
+TEST(MeshReal, PinionSignsAndGradient) { check_real_mesh("pinion.off", count(2000), grad_count(60)); }
+TEST(MeshReal, ElephantSignsAndGradient) { check_real_mesh("elephant.off", count(500), grad_count(20)); }
+TEST(MeshReal, OcctStlSignsAndGradient) { check_real_mesh("occt_sh1.stl", count(1000), grad_count(40)); }
+
+TEST(MeshReal, NotesReportTopology) {
+  const Model m = load_mesh(shared_mesh("joint.off"), {});
+  EXPECT_TRUE(has_note(m, "221 vertices, 446 triangles")) << all_notes(m);
+  EXPECT_TRUE(has_note(m, "genus 2")) << all_notes(m);
+  EXPECT_TRUE(has_note(m, "orientation: consistent and outward")) << all_notes(m);
+  EXPECT_EQ(m.name, "joint");
+  EXPECT_EQ(m.source, shared_mesh("joint.off"));
+}
+
+// The classifier is shared by threads: concurrent classify and classify_box
+// calls agree with a single-threaded run.
+TEST(MeshReal, ClassifierIsSafeUnderConcurrentQueries) {
+  const Model m = load_mesh(shared_mesh("pinion.off"), with_method("brep"));
+  std::shared_ptr<const sage::PointClassifier> c;
+  for (std::vector<sage::Expr> stack{m.field}; !stack.empty() && !c;) {
+    const sage::Expr e = stack.back();
+    stack.pop_back();
+    if (e.op() == sage::Op::Classify) c = e.classifier();
+    for (int i = 0; i < sage::arity(e.op()); ++i) stack.push_back(e.arg(i));
+  }
+  ASSERT_TRUE(c);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Vec3> pts(4000);
+  for (auto& p : pts) p = {u(rng), u(rng), u(rng)};
+  std::vector<double> serial(pts.size()), parallel(pts.size());
+  std::vector<sage::Interval> box_serial(pts.size()), box_parallel(pts.size());
+  auto box_of = [](const Vec3& p) {
+    return std::array<sage::Interval, 3>{sage::Interval(p[0], p[0] + 0.05), sage::Interval(p[1], p[1] + 0.05),
+                                         sage::Interval(p[2], p[2] + 0.05)};
+  };
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    serial[i] = c->classify(pts[i].data());
+    box_serial[i] = c->classify_box(box_of(pts[i]).data());
+  }
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (std::size_t i = t; i < pts.size(); i += 4) {
+        parallel[i] = c->classify(pts[i].data());
+        box_parallel[i] = c->classify_box(box_of(pts[i]).data());
+      }
+    });
+  for (auto& th : threads) th.join();
+  int proved = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    EXPECT_EQ(serial[i], parallel[i]);
+    EXPECT_EQ(box_serial[i].lo, box_parallel[i].lo);
+    EXPECT_EQ(box_serial[i].hi, box_parallel[i].hi);
+    if (box_serial[i].lo == box_serial[i].hi) {
+      ++proved;
+      // A proved box: its corners are on the proved side.
+      const auto b = box_of(pts[i]);
+      for (int corner = 0; corner < 8; ++corner) {
+        const double q[3] = {corner & 1 ? b[0].hi : b[0].lo, corner & 2 ? b[1].hi : b[1].lo,
+                             corner & 4 ? b[2].hi : b[2].lo};
+        EXPECT_EQ(c->classify(q), box_serial[i].lo);
+      }
+    }
+  }
+  EXPECT_GT(proved, 1000);  // most small boxes do not meet the surface
+}
+
+// Interval evaluation is an enclosure: a box whose enclosure is one-signed
+// is on that side (checked at its centre against CGAL); boxes that meet no
+// triangle are proved by classify_box, so many enclosures are one-signed.
+TEST(MeshReal, IntervalsProveSides) {
+  const Model m = load_mesh(shared_mesh("joint.off"), {});
+  const sage::Tape tape(m.field, 3);
+  sage::Evaluator<sage::Interval> eval(tape);
+  const Reference ref(shared_mesh("joint.off"));
+  std::mt19937_64 rng(5);
+  int proved = 0;
+  for (int k = 0; k < 60; ++k) {
+    Vec3 c;
+    for (int i = 0; i < 3; ++i) c[i] = std::uniform_real_distribution<double>(m.bounds->min[i], m.bounds->max[i])(rng);
+    const sage::Interval box[3] = {{c[0] - 0.01, c[0] + 0.01}, {c[1] - 0.01, c[1] + 0.01}, {c[2] - 0.01, c[2] + 0.01}};
+    eval.evaluate_with(box);
+    const sage::Interval r = eval.result();
+    const auto side = (*ref.side)(Point(c[0], c[1], c[2]));
+    if (r.lo >= 0) {
+      EXPECT_NE(side, CGAL::ON_UNBOUNDED_SIDE);
+    }
+    if (r.hi <= 0) {
+      EXPECT_NE(side, CGAL::ON_BOUNDED_SIDE);
+    }
+    if (r.lo >= 0 || r.hi <= 0) ++proved;
+  }
+  EXPECT_GT(proved, 30);
+}
+
+// ---- convex polyhedra: CSG -----------------------------------------------
+
+// A cube [-1, 1]^3 as 12 triangles, faces in the order -x, +x, -y, +y, -z, +z.
+std::string write_cube(const std::string& name) {
+  const std::vector<Vec3> v = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                               {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+  const std::vector<std::vector<int>> f = {{0, 4, 7}, {0, 7, 3}, {1, 2, 6}, {1, 6, 5}, {0, 1, 5}, {0, 5, 4},
+                                           {3, 7, 6}, {3, 6, 2}, {0, 3, 2}, {0, 2, 1}, {4, 5, 6}, {4, 6, 7}};
+  return write_off(name, v, f);
+}
+
+TEST(MeshCsg, CubeIsTheConjunctionOfItsSixPlanesEachOnce) {
+  const Model m = load_mesh(write_cube("cube.off"), {});
+  EXPECT_TRUE(has_note(m, "method: csg")) << all_notes(m);
+  EXPECT_TRUE(has_note(m, "6 face halfspaces")) << all_notes(m);
+  ASSERT_EQ(m.primitives.size(), 6u);
+  EXPECT_EQ(m.primitives[0].pointer, "faces 0, 1");
+  const auto ops = op_counts(m.field);
+  EXPECT_EQ(ops.count(sage::Op::Classify), 0u);
+  EXPECT_EQ(ops.at(sage::Op::RAnd), 5);  // six planes, each used once
+  const std::vector<std::pair<Vec3, Vec3>> planes = {{{-1, 0, 0}, {-1, 0, 0}}, {{1, 0, 0}, {1, 0, 0}},
+                                                     {{0, -1, 0}, {0, -1, 0}}, {{0, 1, 0}, {0, 1, 0}},
+                                                     {{0, 0, -1}, {0, 0, -1}}, {{0, 0, 1}, {0, 0, 1}}};
+  std::vector<sage::Expr> hs;
+  for (const auto& [p, n] : planes) hs.push_back(sage::halfspace(p, n, 3));
+  const sage::Expr expected = sage::r_conjunction_n(hs, sage::RSystem::r0());
+  const sage::Tape got_tape(m.field, 3), want_tape(expected, 3);
+  sage::Evaluator<double> got(got_tape), want(want_tape);
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (int k = 0; k < 1000; ++k) {
+    const std::array<double, 3> p{u(rng), u(rng), u(rng)};
+    EXPECT_NEAR(got.at(p), want.at(p), 1e-12);
+  }
+  // Normalized on the faces: |grad| = 1 at the centre of a face.
+  sage::Evaluator<sage::Tuple<3, 1>> tuples(got_tape);
+  const auto g = tuples.at({1.0, 0.1, -0.2}).gradient();
+  EXPECT_NEAR(std::hypot(g[0], g[1], g[2]), 1.0, 1e-12);
+}
+
+TEST(MeshCsg, IcosahedronUsesEachOfItsTwentyPlanesOnce) {
+  const double phi = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Vec3> v;
+  for (double a : {-1.0, 1.0})
+    for (double b : {-phi, phi}) {
+      v.push_back({0, a, b});
+      v.push_back({a, b, 0});
+      v.push_back({b, 0, a});
+    }
+  std::vector<std::vector<int>> faces;
+  auto d2 = [&](int i, int j) {
+    return std::pow(v[i][0] - v[j][0], 2) + std::pow(v[i][1] - v[j][1], 2) + std::pow(v[i][2] - v[j][2], 2);
+  };
+  for (int i = 0; i < 12; ++i)
+    for (int j = i + 1; j < 12; ++j)
+      for (int k = j + 1; k < 12; ++k)
+        if (std::abs(d2(i, j) - 4) < 1e-9 && std::abs(d2(j, k) - 4) < 1e-9 && std::abs(d2(i, k) - 4) < 1e-9) {
+          // Outward: the normal points away from the origin.
+          const Vec3 a = v[i], b = v[j], c = v[k];
+          const Vec3 e1{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+          const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+          if (n[0] * a[0] + n[1] * a[1] + n[2] * a[2] > 0)
+            faces.push_back({i, j, k});
+          else
+            faces.push_back({i, k, j});
+        }
+  ASSERT_EQ(faces.size(), 20u);
+  const Model m = load_mesh(write_off("icosahedron.off", v, faces), {});
+  EXPECT_TRUE(has_note(m, "20 face halfspaces")) << all_notes(m);
+  EXPECT_EQ(op_counts(m.field).at(sage::Op::RAnd), 19);
+  // Inradius of the icosahedron with edge 2: phi^2 / sqrt(3).
+  const sage::Tape tape(m.field, 3);
+  sage::Evaluator<double> eval(tape);
+  EXPECT_GT(eval.at({0, 0, 0}), 0.0);
+  EXPECT_LT(eval.at({0, 0, 2.0}), 0.0);
+  // On a face centre: 0; |grad| = 1 just inside it.
+  const Vec3 a = v[faces[0][0]], b = v[faces[0][1]], c = v[faces[0][2]];
+  const Vec3 centre{(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3, (a[2] + b[2] + c[2]) / 3};
+  EXPECT_NEAR(eval.at(centre), 0.0, 1e-14);
+  EXPECT_NEAR(std::hypot(centre[0], centre[1], centre[2]), phi * phi / std::sqrt(3.0), 1e-12);
+  sage::Evaluator<sage::Tuple<3, 1>> tuples(tape);
+  const double in = 1 - 1e-10;
+  const auto g = tuples.at({centre[0] * in, centre[1] * in, centre[2] * in}).gradient();
+  EXPECT_NEAR(std::hypot(g[0], g[1], g[2]), 1.0, 1e-7);
+}
+
+// A convex mesh with method "brep": the trimmed-face field, same signs,
+// normalized on faces; orthogonalization keeps both properties.
+TEST(MeshBrep, CubeTrimmedFaceField) {
+  const std::string path = write_cube("cube_brep.off");
+  for (bool orth : {false, true}) {
+    LoadOptions o;
+    o.method = "brep";
+    o.orthogonalize = orth;
+    const Model m = load_mesh(path, o);
+    EXPECT_TRUE(has_note(m, "method: brep")) << all_notes(m);
+    const sage::Tape tape(m.field, 3);
+    sage::Evaluator<double> eval(tape);
+    sage::Evaluator<sage::Tuple<3, 1>> tuples(tape);
+    EXPECT_GT(eval.at({0, 0, 0}), 0.0);
+    EXPECT_LT(eval.at({1.5, 0, 0}), 0.0);
+    EXPECT_LT(eval.at({1.01, 1.01, 1.01}), 0.0);
+    EXPECT_EQ(eval.at({1, 0.3, 0.2}), 0.0);
+    const auto t = tuples.at({1 - 1e-9, 0.3, -0.4});
+    EXPECT_NEAR(t.value(), 1e-9, 1e-15);
+    EXPECT_NEAR(t.gradient()[0], -1.0, 1e-6);
+    EXPECT_NEAR(std::hypot(t.gradient()[0], t.gradient()[1], t.gradient()[2]), 1.0, 1e-6);
+    const auto out = tuples.at({1 + 1e-9, 0.3, -0.4});
+    EXPECT_NEAR(out.value(), -1e-9, 1e-15);
+    EXPECT_NEAR(out.gradient()[0], -1.0, 1e-6);  // xi = -1 times d|h|/dx = +1
+  }
+}
+
+// ---- orientation and repair ----------------------------------------------
+
+TEST(MeshOrientation, InconsistentAndInsideOutFacesAreFixedAndReported) {
+  auto faces = kTetFaces;
+  std::swap(faces[2][1], faces[2][2]);  // one face reversed
+  const Model one = load_mesh(write_off("tet_one_reversed.off", kTet, faces), with_method("brep"));
+  EXPECT_TRUE(has_note(one, "1 of 4 faces reversed")) << all_notes(one);
+  auto inside_out = kTetFaces;
+  for (auto& f : inside_out) std::swap(f[1], f[2]);
+  const Model all = load_mesh(write_off("tet_inside_out.off", kTet, inside_out), with_method("brep"));
+  EXPECT_TRUE(has_note(all, "4 of 4 faces reversed")) << all_notes(all);
+  for (const Model* m : {&one, &all}) {
+    const sage::Tape tape(m->field, 3);
+    sage::Evaluator<double> eval(tape);
+    EXPECT_GT(eval.at({0.1, 0.1, 0.1}), 0.0);
+    EXPECT_LT(eval.at({1, 1, 1}), 0.0);
+  }
+}
+
+TEST(MeshRepair, DuplicatedVerticesAreMergedWithRepair) {
+  // Vertex 4 duplicates vertex 3: the mesh has border edges until merged.
+  auto v = kTet;
+  v.push_back(v[3]);
+  auto f = kTetFaces;
+  f[3] = {1, 2, 4};
+  const std::string path = write_off("tet_duplicated_vertex.off", v, f);
+  expect_error(path, {"open", "border edge", "face "});
+  LoadOptions o;
+  o.repair = true;
+  const Model m = load_mesh(path, o);
+  EXPECT_TRUE(has_note(m, "1 duplicated or unused vertices merged")) << all_notes(m);
+  EXPECT_TRUE(has_note(m, "method: csg")) << all_notes(m);
+}
+
+// A closed tetrahedron whose edge (0, 1) is split at its midpoint 4 on one
+// side; the other side closes with the zero-area triangle (0, 1, 4).
+std::string write_degenerate(const std::string& name) {
+  auto v = kTet;
+  v.push_back({0.5, 0, 0});
+  const std::vector<std::vector<int>> f = {{0, 2, 1}, {0, 3, 2}, {1, 2, 3}, {0, 4, 3}, {4, 1, 3}, {0, 1, 4}};
+  return write_off(name, v, f);
+}
+
+TEST(MeshRepair, DegenerateFacesAreRemovedWithRepair) {
+  LoadOptions o;
+  o.repair = true;
+  const Model m = load_mesh(write_degenerate("degenerate_repair.off"), o);
+  EXPECT_TRUE(has_note(m, "1 degenerate face(s) removed")) << all_notes(m);
+  const sage::Tape tape(m.field, 3);
+  sage::Evaluator<double> eval(tape);
+  EXPECT_GT(eval.at({0.1, 0.1, 0.1}), 0.0);
+  EXPECT_LT(eval.at({1, 1, 1}), 0.0);
+}
+
+// ---- validation faults -----------------------------------------------------
+
+TEST(MeshErrors, OpenMesh) {
+  auto f = kTetFaces;
+  f.pop_back();  // the face (1, 2, 3) is missing
+  expect_error(write_off("open.off", kTet, f), {"open", "border edge", "face 0", "3 border edge(s)"});
+}
+
+TEST(MeshErrors, NonManifoldEdge) {
+  // Three tetrahedra-like fins on the edge (0, 1): the edge has 4 faces.
+  std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, -1, 0}, {0, 0, -1}};
+  const std::vector<std::vector<int>> f = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},
+                                           {0, 4, 1}, {0, 1, 5}, {0, 5, 4}, {1, 4, 5}};
+  expect_error(write_off("nonmanifold_edge.off", v, f), {"non-manifold edge (0, 1)", "4 faces", "faces 0, 1, 4, 5"});
+}
+
+TEST(MeshErrors, NonManifoldVertex) {
+  // Two tetrahedra touching at vertex 0 only.
+  std::vector<Vec3> v = kTet;
+  for (Vec3 p : {Vec3{-1, 0, 0}, Vec3{0, -1, 0}, Vec3{0, 0, -1}}) v.push_back(p);
+  auto f = kTetFaces;
+  for (const auto& g : kTetFaces) {
+    std::vector<int> h;
+    for (int i : g) h.push_back(i == 0 ? 0 : i + 3);
+    std::swap(h[1], h[2]);  // mirrored: keep it outward
+    f.push_back(h);
+  }
+  expect_error(write_off("nonmanifold_vertex.off", v, f), {"non-manifold vertex 0", "face 0", "face 4"});
+}
+
+TEST(MeshErrors, SelfIntersection) {
+  // Two tetrahedra that overlap (the second shifted by 0.25).
+  std::vector<Vec3> v = kTet;
+  for (const Vec3& p : kTet) v.push_back({p[0] + 0.25, p[1] + 0.25, p[2] + 0.25});
+  auto f = kTetFaces;
+  for (const auto& g : kTetFaces) f.push_back({g[0] + 4, g[1] + 4, g[2] + 4});
+  expect_error(write_off("self_intersecting.off", v, f), {"self-intersection", "face 3", "face 4", "intersect"});
+}
+
+TEST(MeshErrors, DegenerateFace) {
+  expect_error(write_degenerate("degenerate.off"),
+               {"face 5", "vertices 0, 1, 4", "degenerate", "collinear", "1 degenerate face(s)"});
+}
+
+TEST(MeshErrors, FaceUsingAVertexTwice) {
+  auto f = kTetFaces;
+  f.push_back({1, 1, 2});
+  expect_error(write_off("repeated_vertex.off", kTet, f), {"face 4", "degenerate", "uses a vertex twice"});
+}
+
+TEST(MeshErrors, NonPlanarPolygon) {
+  // A square pyramid whose base quad is bent.
+  const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.2}, {0, 1, 0}, {0.5, 0.5, 1}};
+  const std::vector<std::vector<int>> f = {{0, 3, 2, 1}, {0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}};
+  expect_error(write_off("bent_quad.off", v, f), {"face 0", "not planar"});
+}
+
+TEST(MeshErrors, UnreadableAndMalformedFiles) {
+  expect_error((scratch() / "missing.off").string(), {"cannot open"});
+  expect_error(write_file("garbage.off", "this is not an OFF file\n"), {"malformed"});
+  expect_error(write_file("truncated.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n"), {"malformed"});
+  expect_error(
+      write_file("bad_index.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 9\n"),
+      {"malformed"});  // CGAL's OFF reader checks indices itself
+  expect_error(write_file("bad_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n"),
+               {"malformed"});  // so does the OBJ reader
+  expect_error(write_file("empty.stl", ""), {});
+  expect_error(write_off("unknown_method.off", kTet, kTetFaces), {"unknown method"}, with_method("voxels"));
+}
+
+// ---- other formats ---------------------------------------------------------
+
+TEST(MeshFormats, PlanarQuadsObjAndAsciiStl) {
+  // The cube as six quads in OBJ: triangulated, then 6 planes in CSG.
+  const std::string obj = write_file("cube.obj",
+                                     "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                                     "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                     "f 1 5 8 4\nf 2 3 7 6\nf 1 2 6 5\nf 4 8 7 3\nf 1 4 3 2\nf 5 6 7 8\n");
+  const Model m = load_mesh(obj, {});
+  EXPECT_TRUE(has_note(m, "6 planar polygon faces triangulated into 12 triangles")) << all_notes(m);
+  EXPECT_EQ(op_counts(m.field).at(sage::Op::RAnd), 5);
+  // A tetrahedron in ASCII STL (vertices welded by the reader).
+  std::ostringstream stl;
+  stl << "solid t\n";
+  for (const auto& f : kTetFaces) {
+    stl << "facet normal 0 0 0\nouter loop\n";
+    for (int i : f) stl << "vertex " << kTet[i][0] << " " << kTet[i][1] << " " << kTet[i][2] << "\n";
+    stl << "endloop\nendfacet\n";
+  }
+  stl << "endsolid t\n";
+  const Model t = load_mesh(write_file("tet.stl", stl.str()), {});
+  EXPECT_TRUE(has_note(t, "4 vertices, 4 triangles")) << all_notes(t);
+  EXPECT_TRUE(has_note(t, "4 face halfspaces")) << all_notes(t);
+  // And in ASCII PLY.
+  std::ostringstream ply;
+  ply << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+         "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const auto& v : kTet) ply << v[0] << " " << v[1] << " " << v[2] << "\n";
+  for (const auto& f : kTetFaces) ply << "3 " << f[0] << " " << f[1] << " " << f[2] << "\n";
+  const Model p = load_mesh(write_file("tet.ply", ply.str()), {});
+  EXPECT_TRUE(has_note(p, "4 vertices, 4 triangles")) << all_notes(p);
+}
+
+TEST(MeshFormats, IsMeshPath) {
+  EXPECT_TRUE(sage::geometry::is_mesh_path("a/b.off"));
+  EXPECT_TRUE(sage::geometry::is_mesh_path("B.STL"));
+  EXPECT_TRUE(sage::geometry::is_mesh_path("x.ply"));
+  EXPECT_FALSE(sage::geometry::is_mesh_path("x.json"));
+}
+
+}  // namespace
