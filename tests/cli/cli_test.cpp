@@ -175,3 +175,49 @@ TEST(CliErrors, FieldOutsideItsDomainIsReportedNotWritten) {
 }
 
 }  // namespace
+
+// ---- GIS data and meshes from the command line -----------------------------------
+
+namespace {
+
+std::string shared_data(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/" + name; }
+
+TEST(CliGeometry, GeoJsonFieldAndInfoReportTheProjection) {
+  const fs::path out = scratch("island.vtu");
+  const Result r =
+      run("field " + shared_data("gis/washington_island_wi_osm.geojson") + " -o " + out.string() + " --grid 40x40 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  vtkDataArray* omega = reader->GetOutput()->GetPointData()->GetArray("omega");
+  ASSERT_TRUE(omega);
+  double range[2];
+  omega->GetRange(range);
+  EXPECT_LT(range[0], 0.0);  // the grid covers water and land
+  EXPECT_GT(range[1], 0.0);
+  const Result info = run("info " + shared_data("gis/washington_island_wi_osm.geojson"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("azimuthal equidistant"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("certified well-formed"), std::string::npos) << info.output;
+}
+
+TEST(CliGeometry, ShapefileWhereAndBrep) {
+  const Result r = run("info " + shared_data("gis/shapefile_nc/nc.shp") + " --where \"NAME = 'Ashe'\" --method brep");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("trimmed-edge B-rep"), std::string::npos) << r.output;
+}
+
+TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
+  expect_failure("info " + shared_data("gis/greece_ne10m.geojson"), {"greece_ne10m.geojson", "vertex", "--repair"});
+}
+
+TEST(CliGeometry, MeshField) {
+  const fs::path out = scratch("joint.vti");
+  const Result r = run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 10x10x10 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(out), 0u);
+  expect_failure("field " + write_file("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n") + " -o " + out.string(), {"bad.off"});
+}
+
+}  // namespace
