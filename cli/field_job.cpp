@@ -95,10 +95,19 @@ FieldReport run_field_job(const FieldJob& job) {
   const auto [lo, hi] = std::minmax_element(samples.omega.begin(), samples.omega.end());
   report.omega_min = *lo;
   report.omega_max = *hi;
+  auto finite_at = [&samples](std::size_t i) {
+    if (!std::isfinite(samples.omega[i]) || !std::isfinite(samples.gradient_norm[i])) return false;
+    for (const DerivativeArray& d : samples.higher) {
+      const std::size_t m = d.components.size();
+      for (std::size_t c = 0; c < m; ++c)
+        if (!std::isfinite(d.values[i * m + c])) return false;
+    }
+    return true;
+  };
   for (std::size_t i = 0; i < samples.omega.size(); ++i)
-    if (!std::isfinite(samples.omega[i]) || !std::isfinite(samples.gradient_norm[i])) {
+    if (!finite_at(i)) {
       const auto p = report.grid.point(i);
-      throw std::runtime_error(job.model_path + ": the field or its gradient is not finite at grid point (" +
+      throw std::runtime_error(job.model_path + ": the field or one of its derivatives is not finite at grid point (" +
                                std::to_string(p[0]) + ", " + std::to_string(p[1]) +
                                (model.dimension == 3 ? ", " + std::to_string(p[2]) : std::string()) +
                                "): a pole, or a formula outside its domain (sqrt or log of a negative number)");

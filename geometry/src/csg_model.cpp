@@ -115,6 +115,14 @@ class Reader {
 
   // ---- nodes ----------------------------------------------------------------
   Expr node(const Json& j, const std::string& at) {
+    // A depth limit keeps hostile input from overflowing the stack.
+    if (++depth_ > kMaxDepth) fail(at, "nodes nested more than " + std::to_string(kMaxDepth) + " levels deep");
+    Expr e = node_body(j, at);
+    --depth_;
+    return e;
+  }
+
+  Expr node_body(const Json& j, const std::string& at) {
     if (!j.is_object()) fail(at, "a node must be a JSON object");
     Expr e;
     if (j.contains("primitive"))
@@ -146,7 +154,7 @@ class Reader {
       if (dim != 3) fail(at + "/primitive", "\"" + type + "\" is a 3D primitive but the model is 2D");
     };
     auto keys = [&](std::initializer_list<const char*> k) {
-      std::vector<const char*> all{"primitive", "name", "rfunction"};
+      std::vector<const char*> all{"primitive", "name"};
       all.insert(all.end(), k);
       const std::set<std::string> allowed(all.begin(), all.end());
       for (const auto& [key, value] : j.items())
@@ -168,7 +176,7 @@ class Reader {
         return ellipsoid(vector_at(j, "center", at, dim), vector_at(j, "semi_axes", at, dim), dim);
       }
       if (type == "box" || type == "rectangle") {
-        keys({"min", "max"});
+        keys({"min", "max", "rfunction"});
         return box(vector_at(j, "min", at, dim), vector_at(j, "max", at, dim), dim, node_rsystem(j, at));
       }
       if (type == "cylinder") {
@@ -178,7 +186,7 @@ class Reader {
       }
       if (type == "capped_cylinder") {
         need_3d();
-        keys({"base", "axis", "radius", "height"});
+        keys({"base", "axis", "radius", "height", "rfunction"});
         return capped_cylinder(vector_at(j, "base", at, 3), vector_at(j, "axis", at, 3), positive_at(j, "radius", at),
                                positive_at(j, "height", at), node_rsystem(j, at));
       }
@@ -268,6 +276,8 @@ class Reader {
         fail(at + "/method", e.what());
       }
     }
+    if (j.contains("rfunction") && method != TrimMethod::Simple)
+      fail(at + "/rfunction", "only \"method\": \"simple\" trimming uses an R-function");
     if (j.contains("orthogonalize")) {
       if (!j["orthogonalize"].is_boolean()) fail(at + "/orthogonalize", "expected true or false");
       if (j["orthogonalize"].get<bool>()) t = orthogonalize(h, t, model_.dimension);
@@ -288,8 +298,10 @@ class Reader {
     return it->second;
   }
 
+  static constexpr int kMaxDepth = 1000;
   Model& model_;
   const ModelOptions& options_;
+  int depth_ = 0;
 };
 
 }  // namespace

@@ -75,6 +75,7 @@ void check_csg_signs(const Expr& field, const PolygonSet& set, const Bounds& b, 
       }
     }
   }
+  std::sort(wrong.begin(), wrong.end());  // filled in parallel: report a repeatable example
   if (!wrong.empty())
     throw ModelError(path + ": the CSG construction gave a wrong sign at " + std::to_string(wrong.size()) + " of " +
                      std::to_string(n) + " sample points, e.g. (" + std::to_string(wrong[0][0]) + ", " +
@@ -123,6 +124,10 @@ Model load_gis(const std::string& path, const LoadOptions& options) {
     }
   } else if (options.method == "brep") {
     m.field = polygon_brep(gis.polygons, m.rfunction);
+    if (options.orthogonalize)
+      m.notes.push_back(
+          "--orthogonalize has no effect on polygon edges: their trimming disks already meet them "
+          "at right angles");
     m.notes.push_back("method: trimmed-edge B-rep (smooth normalized trimming, " + m.rfunction.name() +
                       " gluing, exact point membership sign)");
   } else {

@@ -1,7 +1,6 @@
 #include <sage/expression.hpp>
 
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <unordered_set>
 #include <vector>
@@ -89,34 +88,6 @@ std::size_t Expr::node_count() const {
   return seen.size();
 }
 
-std::string Expr::to_string() const {
-  std::ostringstream out;
-  switch (op()) {
-    case Op::Const: out << constant_value(); break;
-    case Op::VarX:
-    case Op::VarY:
-    case Op::VarZ: out << op_name(op()); break;
-    case Op::Add: out << "(" << arg(0).to_string() << " + " << arg(1).to_string() << ")"; break;
-    case Op::Sub: out << "(" << arg(0).to_string() << " - " << arg(1).to_string() << ")"; break;
-    case Op::Mul: out << "(" << arg(0).to_string() << " * " << arg(1).to_string() << ")"; break;
-    case Op::Div: out << "(" << arg(0).to_string() << " / " << arg(1).to_string() << ")"; break;
-    case Op::Neg: out << "-" << arg(0).to_string(); break;
-    case Op::PowInt:
-    case Op::PowReal: out << arg(0).to_string() << "^" << param(0); break;
-    case Op::Classify: out << "classify(p)"; break;
-    case Op::RAnd:
-    case Op::ROr:
-      out << op_name(op()) << "[" << rsystem().name() << "](" << arg(0).to_string() << ", " << arg(1).to_string()
-          << ")";
-      break;
-    default:
-      out << op_name(op()) << "(" << arg(0).to_string();
-      if (arity(op()) == 2) out << ", " << arg(1).to_string();
-      out << ")";
-  }
-  return out.str();
-}
-
 // ---- construction with folding ---------------------------------------------
 
 Expr operator+(const Expr& a, const Expr& b) {
@@ -199,7 +170,7 @@ Expr pow_int(const Expr& a, int n) {
 }
 
 Expr pow_real(const Expr& a, double r) {
-  if (r == std::floor(r) && std::abs(r) <= 1024) return pow_int(a, static_cast<int>(r));
+  if (r == std::floor(r) && std::abs(r) < 0x1p20) return pow_int(a, static_cast<int>(r));
   if (r == 0.5) return sqrt(a);
   return unary(
       Op::PowReal, a, [r](double v) { return std::pow(v, r); }, r);

@@ -68,10 +68,13 @@ class Parser {
     }
   }
 
+  // Every nesting (parentheses, unary signs, exponents) passes here: a
+  // depth limit keeps hostile input from overflowing the stack.
   Expr unary() {
-    if (accept('-')) return -unary();
-    if (accept('+')) return unary();
-    return power();
+    if (++depth_ > kMaxDepth) fail("formula nested more than " + std::to_string(kMaxDepth) + " levels deep");
+    Expr e = accept('-') ? -unary() : accept('+') ? unary() : power();
+    --depth_;
+    return e;
   }
 
   Expr power() {
@@ -159,9 +162,11 @@ class Parser {
     fail("unknown function '" + id + "' (known: sqrt exp log sin cos abs min max pow)");
   }
 
+  static constexpr int kMaxDepth = 1000;
   const std::string& text_;
   int dimension_;
   std::size_t pos_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

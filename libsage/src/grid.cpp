@@ -44,6 +44,10 @@ std::array<int, 3> Grid::parse_resolution(const std::string& text, int dimension
       throw std::invalid_argument("grid '" + text + "': each count must be an integer from 2 to 100000");
     n[i] = static_cast<int>(v);
   }
+  const double total = static_cast<double>(n[0]) * n[1] * n[2];
+  if (total > kMaxGridPoints)
+    throw std::invalid_argument("grid '" + text + "': " + std::to_string(static_cast<long long>(total)) +
+                                " points is more than the limit of " + std::to_string(kMaxGridPoints));
   return n;
 }
 

@@ -21,9 +21,9 @@ double parse_parameter(const std::string& text, const std::string& value) {
 
 int even_parameter(const std::string& text, const std::string& value, int minimum) {
   const double v = parse_parameter(text, value);
-  if (v != std::floor(v) || static_cast<long long>(v) % 2 != 0 || v < minimum || v > 64)
+  if (v < minimum || v > kMaxEvenParameter || v != std::floor(v) || static_cast<int>(v) % 2 != 0)
     throw std::invalid_argument("R-function '" + text + "': parameter must be an even integer from " +
-                                std::to_string(minimum) + " to 64");
+                                std::to_string(minimum) + " to " + std::to_string(kMaxEvenParameter));
   return static_cast<int>(v);
 }
 }  // namespace
@@ -34,12 +34,12 @@ RSystem RSystem::r_alpha(double alpha) {
 }
 
 RSystem RSystem::r_p(int p) {
-  if (p < 2 || p % 2 != 0) throw std::invalid_argument("R_p needs an even p >= 2");
+  if (p < 2 || p % 2 != 0 || p > kMaxEvenParameter) throw std::invalid_argument("R_p needs an even p from 2 to 16");
   return {RKind::Rp, static_cast<double>(p)};
 }
 
 RSystem RSystem::r_m(int m) {
-  if (m < 0 || m % 2 != 0) throw std::invalid_argument("R0^m needs an even m >= 0");
+  if (m < 0 || m % 2 != 0 || m > kMaxEvenParameter) throw std::invalid_argument("R0^m needs an even m from 0 to 16");
   return {RKind::Rm, static_cast<double>(m)};
 }
 

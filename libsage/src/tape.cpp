@@ -37,9 +37,8 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
   const std::vector<Expr> order = topological_order(roots);
 
   // Last reader of every node (by position in `order`); roots live forever.
-  std::unordered_map<const Node*, std::size_t> position, last_use;
+  std::unordered_map<const Node*, std::size_t> last_use;
   for (std::size_t i = 0; i < order.size(); ++i) {
-    position[order[i].id()] = i;
     for (int k = 0; k < arity(order[i].op()); ++k) last_use[order[i].arg(k).id()] = i;
   }
   for (const Expr& r : roots) last_use[r.id()] = order.size();

@@ -191,3 +191,24 @@ TEST(CsgModelErrors, MissingFileIsNamed) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(CsgModelErrors, DeepNestingIsAnErrorNotACrash) {
+  std::string text = R"({"dimension": 2, "field": )";
+  for (int i = 0; i < 5000; ++i) text += R"({"op": "complement", "args": [)";
+  text += R"({"formula": "x"})";
+  for (int i = 0; i < 5000; ++i) text += "]}";
+  text += "}";
+  expect_error(text, {"nested more than"});
+}
+
+TEST(CsgModelErrors, RFunctionWhereNothingUsesIt) {
+  expect_error(R"({"dimension": 2, "field": {"primitive": "disk", "center": [0, 0], "radius": 1, "rfunction": "r0"}})",
+               {"/field/rfunction", "unknown parameter"});
+  expect_error(R"({"dimension": 2, "field": {"op": "trim", "entity": {"formula": "y"}, "region": {"formula": "x"},
+               "rfunction": "r0"}})",
+               {"/field/rfunction", "simple"});
+}
+
+}  // namespace

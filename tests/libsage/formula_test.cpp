@@ -146,3 +146,18 @@ TEST(Formula, ErrorColumns) {
 
 }  // namespace
 }  // namespace sage
+
+namespace sage {
+namespace {
+
+TEST(Formula, DeepNestingIsAnErrorNotACrash) {
+  const std::string deep = std::string(200000, '(') + "x" + std::string(200000, ')');
+  EXPECT_THROW(parse_formula(deep, 2), FormulaError);
+  const std::string signs = std::string(200000, '-') + "x";
+  EXPECT_THROW(parse_formula(signs, 2), FormulaError);
+  const std::string fine = std::string(100, '(') + "x" + std::string(100, ')');
+  EXPECT_NO_THROW(parse_formula(fine, 2));
+}
+
+}  // namespace
+}  // namespace sage

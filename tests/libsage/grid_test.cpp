@@ -24,8 +24,9 @@ TEST(Grid, ParseResolution) {
   for (const char* bad :
        {"200", "200x", "x200", "200x200x2", "1x5", "abcx4", "2.5x4", "-4x4", "4x100001", "", "4 x4", "4x4x"})
     EXPECT_THROW(Grid::parse_resolution(bad, 2), std::invalid_argument) << bad;
-  for (const char* bad : {"64x64", "64x64x1", "64x64x64x64"})
+  for (const char* bad : {"64x64", "64x64x1", "64x64x64x64", "100000x100000x100000"})
     EXPECT_THROW(Grid::parse_resolution(bad, 3), std::invalid_argument) << bad;
+  EXPECT_THROW(Grid::parse_resolution("100000x100000", 2), std::invalid_argument);  // 1e10 points
 }
 
 TEST(Grid, ParseBounds) {

@@ -183,3 +183,42 @@ TEST(Interval, CompositeFormulasEnclose) {
 
 }  // namespace
 }  // namespace sage
+
+namespace sage {
+namespace {
+
+// Narrow boxes far from 0: sin and cos must still enclose (the wide boxes
+// of the scale test always give [-1, 1]), and must return for any input.
+TEST(Interval, SinCosEncloseNarrowBoxesAtLargeMagnitudes) {
+  for (double centre : {1e3, 1e8 + 0.25, 3.0e15, 1e17, -4.5e16}) {
+    const Interval box(centre, centre + 1e-3 * std::max(1.0, std::abs(centre) * 1e-12));
+    for (double t : {0.0, 0.3, 0.7, 1.0}) {
+      const double x = box.lo + t * box.width();
+      EXPECT_TRUE(sin(box).contains(std::sin(x))) << centre;
+      EXPECT_TRUE(cos(box).contains(std::cos(x))) << centre;
+    }
+  }
+}
+
+TEST(Interval, NanPropagatesThroughArithmetic) {
+  const Interval nan(NAN, NAN);
+  EXPECT_TRUE((nan * Interval(1, 2)).is_nan());
+  EXPECT_TRUE((Interval(1, 2) * nan).is_nan());
+  EXPECT_TRUE(cos(nan).is_nan());
+  // 0 * inf stays the enclosure 0 of a product of sets.
+  const Interval p = Interval(0, 0) * Interval(1, INFINITY);
+  EXPECT_EQ(p.lo, -std::numeric_limits<double>::min());
+  EXPECT_LE(p.hi, std::numeric_limits<double>::min());
+}
+
+TEST(Interval, LargeIntegerPowersKeepTheirParity) {
+  const Interval even = pow_real(Interval(-2, 1), 2000);
+  EXPECT_EQ(even.lo, 0.0);
+  EXPECT_TRUE(std::isinf(even.hi));  // 2^2000 overflows
+  const Interval odd = pow_real(Interval(-1.001, -0.999), 101);
+  EXPECT_TRUE(odd.contains(std::pow(-1.0005, 101)));
+  EXPECT_LT(odd.hi, 0.0);
+}
+
+}  // namespace
+}  // namespace sage

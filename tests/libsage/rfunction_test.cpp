@@ -311,3 +311,25 @@ TEST(RFunction, ParseAndName) {
 
 }  // namespace
 }  // namespace sage
+
+namespace sage {
+namespace {
+
+// P and M are capped where doubles still hold x^P: every allowed rp keeps
+// the sign of min(x, y) from 1e-6 to 1e6.
+TEST(RFunction, RpKeepsItsSignAcrossScalesUpToTheCap) {
+  for (int p = 2; p <= kMaxEvenParameter; p += 2) {
+    const RSystem s = RSystem::r_p(p);
+    for (double scale : {1e-6, 1.0, 1e6}) {
+      EXPECT_LT(r_and(-1.0 * scale, 2.0 * scale, s), 0.0) << p << " " << scale;
+      EXPECT_GT(r_and(1.0 * scale, 2.0 * scale, s), 0.0) << p << " " << scale;
+      EXPECT_GT(r_or(-1.0 * scale, 2.0 * scale, s), 0.0) << p << " " << scale;
+    }
+  }
+  EXPECT_THROW(RSystem::parse("rp:18"), std::invalid_argument);
+  EXPECT_THROW(RSystem::parse("rp:1e300"), std::invalid_argument);
+  EXPECT_THROW(RSystem::r_p(64), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sage

@@ -78,8 +78,6 @@ class Expr {
   int variables_used() const;
   /// Number of distinct nodes.
   std::size_t node_count() const;
-  /// Readable infix text, for messages and `sage info`.
-  std::string to_string() const;
 
  private:
   explicit Expr(std::shared_ptr<const Node> n) : node_(std::move(n)) {}

@@ -22,6 +22,10 @@
 
 namespace sage {
 
+/// Most points a parsed grid may have: 2e8 points with value and gradient
+/// already take about 8 GB as doubles.
+constexpr long long kMaxGridPoints = 200'000'000;
+
 struct Grid {
   int dimension = 2;
   std::array<double, 3> lo{0, 0, 0};
@@ -48,9 +52,12 @@ struct Grid {
   std::array<Interval, 3> cell(std::size_t index) const {
     const std::size_t cx = static_cast<std::size_t>(points[0] - 1), cy = static_cast<std::size_t>(points[1] - 1);
     const std::size_t i = index % cx, j = (index / cx) % cy, k = index / cx / cy;
-    const std::array<double, 3> p = point(i + points[0] * (j + static_cast<std::size_t>(points[1]) * k));
-    std::array<Interval, 3> box{Interval(p[0], p[0] + spacing(0)), Interval(p[1], p[1] + spacing(1)), Interval(0.0)};
-    if (dimension == 3) box[2] = Interval(p[2], p[2] + spacing(2));
+    // Both ends from point(), so neighbouring cells share their faces exactly.
+    const std::size_t nx = static_cast<std::size_t>(points[0]), ny = static_cast<std::size_t>(points[1]);
+    const std::array<double, 3> p = point(i + nx * (j + ny * k));
+    const std::array<double, 3> q = point((i + 1) + nx * ((j + 1) + ny * (dimension == 3 ? k + 1 : k)));
+    std::array<Interval, 3> box{Interval(p[0], q[0]), Interval(p[1], q[1]), Interval(0.0)};
+    if (dimension == 3) box[2] = Interval(p[2], q[2]);
     return box;
   }
 

@@ -74,8 +74,10 @@ inline Interval operator-(const Interval& a, const Interval& b) { return detail:
 inline Interval operator-(const Interval& a) { return {-a.hi, -a.lo}; }
 
 inline Interval operator*(const Interval& a, const Interval& b) {
+  if (a.is_nan() || b.is_nan()) return {NAN, NAN};
   const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-  // 0 * inf is NaN in IEEE but 0 for the enclosure of a product of sets.
+  // With NaN operands excluded, a NaN product is 0 * inf: 0 for the
+  // enclosure of a product of sets.
   double lo = detail::kInf, hi = -detail::kInf;
   for (double v : p) {
     if (std::isnan(v)) v = 0.0;
@@ -100,8 +102,10 @@ inline Interval square(const Interval& a) {
 inline Interval pow_int(const Interval& a, int n) {
   if (n == 0) return Interval(1.0);
   if (n < 0) return Interval(1.0) / pow_int(a, -n);
-  // pow_int on doubles is a product of n factors: round-off grows with n.
-  const int ulps = 2 * n;
+  // pow_int on doubles squares and multiplies about 2 log2(n) times, each
+  // rounding by half an ulp: widen by twice that.
+  int ulps = 2;
+  for (int m = n; m > 1; m >>= 1) ulps += 2;
   const double l = sage::pow_int(a.lo, n), h = sage::pow_int(a.hi, n);
   if (n % 2 == 1) return detail::outward(l, h, ulps);
   if (a.contains_zero()) return {0.0, detail::up(std::max(l, h), ulps)};
@@ -114,7 +118,7 @@ inline Interval sqrt(const Interval& a) {
 }
 
 inline Interval pow_real(const Interval& a, double r) {
-  if (r == std::floor(r) && std::abs(r) < 64) return pow_int(a, static_cast<int>(r));
+  if (r == std::floor(r) && std::abs(r) < 0x1p20) return pow_int(a, static_cast<int>(r));
   if (a.hi < 0) return {NAN, NAN};
   const double l = std::pow(std::max(a.lo, 0.0), r), h = std::pow(a.hi, r);
   return detail::outward(std::min(l, h), std::max(l, h), 2);
@@ -135,7 +139,9 @@ namespace detail {
 // interval counts as inside: including one that is not there only loosens
 // the enclosure, missing one would break it.
 inline Interval cos_range(const Interval& a) {
-  if (!(a.width() < 2 * M_PI)) return {-1.0, 1.0};
+  if (a.is_nan()) return a;
+  // Past 2^52, k pi can no longer be stepped through in doubles.
+  if (!(a.width() < 2 * M_PI) || std::abs(a.lo) > 0x1p52 || std::abs(a.hi) > 0x1p52) return {-1.0, 1.0};
   double lo = std::min(std::cos(a.lo), std::cos(a.hi));
   double hi = std::max(std::cos(a.lo), std::cos(a.hi));
   const double k_first = std::floor(a.lo / M_PI) - 1, k_last = std::ceil(a.hi / M_PI) + 1;

@@ -39,6 +39,11 @@
 
 namespace sage {
 
+/// Largest P of rp:P and M of rm:M. x^P under- and overflows doubles
+/// beyond it: with P = 64, x^P + y^P is 0 for |x|, |y| < 1e-5 (giving the
+/// wrong sign) and inf above 6e4 (GIS coordinates in metres).
+constexpr int kMaxEvenParameter = 16;
+
 enum class RKind : int { MinMax = 0, R0 = 1, RAlpha = 2, RAlphaVariable = 3, Rp = 4, Rm = 5 };
 
 /// An R-function system and its parameter (alpha, p or m).

@@ -30,7 +30,7 @@ struct Instruction {
 
 class Tape {
  public:
-  /// Compiles `roots` for evaluation in `dimension` (2 or 3) variables.
+  /// Compiles `roots` for evaluation in `dimension` (1, 2 or 3) variables.
   /// Throws std::invalid_argument if an expression uses a variable beyond
   /// the dimension (z in a 2D model).
   Tape(const std::vector<Expr>& roots, int dimension);

@@ -188,7 +188,11 @@ std::array<double, K + 1> power_series(double a0, double r) {
 }
 
 template <int N, int K>
+Tuple<N, K> pow_int(const Tuple<N, K>& a, int n);
+
+template <int N, int K>
 Tuple<N, K> pow_real(const Tuple<N, K>& a, double r) {
+  if (r == std::floor(r) && std::abs(r) < 0x1p20) return pow_int(a, static_cast<int>(r));
   const double a0 = a.value();
   if (a0 == 0.0) return Tuple<N, K>(std::pow(0.0, r));  // singular: derivatives 0
   if (a0 < 0.0 && r != std::floor(r)) return Tuple<N, K>(std::numeric_limits<double>::quiet_NaN());
