@@ -64,15 +64,22 @@ double PolygonClassifier::classify(const double* p) const {
   return inside ? 1.0 : -1.0;
 }
 
-Interval PolygonClassifier::classify_box(const Interval* box) const {
+bool PolygonClassifier::edge_meets(const Interval* box) const {
+  const K::Iso_rectangle_2 rectangle(box[0].lo, box[1].lo, box[0].hi, box[1].hi);
   const std::size_t lo = slab_of(box[1].lo), hi = slab_of(box[1].hi);
   for (std::size_t j = lo; j <= hi; ++j)
     for (std::uint32_t k : slabs_[j]) {
       const Segment& s = segments_[k];
-      if (std::max(s.ax, s.bx) >= box[0].lo && std::min(s.ax, s.bx) <= box[0].hi && std::max(s.ay, s.by) >= box[1].lo &&
-          std::min(s.ay, s.by) <= box[1].hi)
-        return {-1.0, 1.0};  // an edge may cross the box
+      if (std::max(s.ax, s.bx) < box[0].lo || std::min(s.ax, s.bx) > box[0].hi || std::max(s.ay, s.by) < box[1].lo ||
+          std::min(s.ay, s.by) > box[1].hi)
+        continue;  // bounding boxes apart
+      if (CGAL::do_intersect(K::Segment_2(K::Point_2(s.ax, s.ay), K::Point_2(s.bx, s.by)), rectangle)) return true;
     }
+  return false;
+}
+
+Interval PolygonClassifier::classify_box(const Interval* box) const {
+  if (edge_meets(box)) return {-1.0, 1.0};
   // No edge meets the box: it is wholly inside or wholly outside.
   const double centre[2] = {box[0].mid(), box[1].mid()};
   return Interval(classify(centre));

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 #include <vector>
 
@@ -14,7 +15,9 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
   const Tape tape(field, 2);
   const PolygonClassifier edges(polygons);  // its box test finds edges near a box
   Certificate c;
-  c.band = band;
+  // A box at most `band` wide that meets an edge once grown by `band` lies
+  // within the grown box's diagonal, 3 sqrt(2) band, of that edge.
+  c.band = 3 * std::sqrt(2.0) * band;
   using Box = std::array<Interval, 2>;
   std::vector<Box> level{{Interval(bounds.min[0], bounds.max[0]), Interval(bounds.min[1], bounds.max[1])}};
   bool failed = false, proven = false;
@@ -42,13 +45,15 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
       for (std::size_t i = 0; i < level.size(); ++i) {
         const Box& b = level[i];
         eval.evaluate_with(b.data());
-        if (!eval.result().contains_zero()) continue;  // proven: no zero here
+        const Interval range = eval.result();
+        if (!range.is_nan() && !range.contains_zero()) continue;  // proven: no zero here
         const double width = std::max(b[0].width(), b[1].width());
         const Box grown{Interval(b[0].lo - band, b[0].hi + band), Interval(b[1].lo - band, b[1].hi + band)};
-        if (width <= band && edges.classify_box(grown.data()).width() > 0) continue;  // within the band of an edge
+        const bool near_edge = edges.edge_meets(grown.data());
+        if (width <= band && near_edge) continue;  // within 3 sqrt(2) band of an edge
         // Away from the edges: a sign change between sample points proves
         // a zero there (omega is continuous and the box meets no edge).
-        if (edges.classify_box(grown.data()).width() == 0 && changes_sign(b)) {
+        if (!near_edge && changes_sign(b)) {
           split[i] = 3;
           continue;
         }
@@ -89,7 +94,7 @@ Certificate certify_no_spurious_zeros(const Expr& field, const PolygonSet& polyg
     text << "not certified: gave up after " << c.boxes << " interval boxes";
   } else {
     c.certified = true;
-    text << "certified well-formed: no zeros of omega farther than " << band
+    text << "certified well-formed: no zeros of omega farther than " << c.band
          << " from the boundary within the bounds (interval arithmetic, " << c.boxes << " boxes)";
   }
   c.text = text.str();

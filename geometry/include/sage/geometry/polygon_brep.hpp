@@ -19,14 +19,16 @@ namespace sage::geometry {
 /// Exact point membership in a polygon set: +1 inside, 0 on an edge, -1
 /// outside (crossing count along +x with CGAL's exact predicates; the
 /// edges are bucketed in horizontal slabs so a query reads few of them).
-/// classify_box proves a box inside or outside when no edge's bounding
-/// box meets it.
+/// classify_box proves a box inside or outside when no edge meets it
+/// (exact segment-rectangle test).
 class PolygonClassifier : public PointClassifier {
  public:
   explicit PolygonClassifier(const PolygonSet& polygons);
   double classify(const double* p) const override;
   Interval classify_box(const Interval* box) const override;
   int dimension() const override { return 2; }
+  /// Does any edge meet the closed box? Exact.
+  bool edge_meets(const Interval* box) const;
 
  private:
   struct Segment {

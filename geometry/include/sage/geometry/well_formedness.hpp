@@ -3,7 +3,8 @@
 // (the definition of a well-formed CSG translation, paper 004 sec. 3.1),
 // by interval arithmetic over an adaptive covering of the bounds: every
 // box either has an interval of omega that excludes 0, or is at most
-// `band` wide and lies within `band` of an edge. A box that meets no edge
+// `band` wide and meets an edge once grown by `band` (so it lies within
+// 3 sqrt(2) band of the boundary: Certificate::band). A box that meets no edge
 // but where omega changes sign between sample points proves a spurious
 // zero: the field is then reported NOT well-formed.
 
