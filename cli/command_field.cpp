@@ -32,20 +32,8 @@ int run_field(const std::vector<std::string>& args) {
   add("quiet,q", "no progress or summary");
   std::string where, layer;
   add_source_options(options, job.load, where, layer);
-  po::options_description hidden;
-  hidden.add_options()("model", po::value(&job.model_path)->required());
-  po::options_description all;
-  all.add(options).add(hidden);
-  po::positional_options_description positional;
-  positional.add("model", 1);
-
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  if (vm.count("help")) {
-    std::cout << options << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_model_command(args, options, job.model_path, vm)) return 0;
   finish_source_options(vm, job.load, where, layer);
   if (vm.count("grid")) job.grid = grid;
   if (vm.count("bounds")) job.bounds = bounds;

@@ -24,19 +24,8 @@ int run_info(const std::vector<std::string>& args) {
   add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
   add("no-certify", "polygons: skip the well-formedness certificate");
   add_source_options(options, load, where, layer);
-  po::options_description hidden;
-  hidden.add_options()("model", po::value(&model_path)->required());
-  po::options_description all;
-  all.add(options).add(hidden);
-  po::positional_options_description positional;
-  positional.add("model", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
-  if (vm.count("help")) {
-    std::cout << options << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_model_command(args, options, model_path, vm)) return 0;
   finish_source_options(vm, load, where, layer);
   load.certify = vm.count("no-certify") == 0;
 

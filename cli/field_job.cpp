@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 
 namespace sage::cli {
@@ -45,6 +46,25 @@ void add_source_options(boost::program_options::options_description& description
   add("layer", po::value(&layer), "GIS: layer name (default: the first)");
   add("repair", po::bool_switch(&options.repair), "fix invalid geometry where that is safe (GEOS MakeValid)");
   add("orthogonalize", po::bool_switch(&options.orthogonalize), "B-rep: orthogonalize trimming at corners");
+}
+
+bool parse_model_command(const std::vector<std::string>& args,
+                         const boost::program_options::options_description& options, std::string& model_path,
+                         boost::program_options::variables_map& vm) {
+  namespace po = boost::program_options;
+  po::options_description hidden;
+  hidden.add_options()("model", po::value(&model_path)->required());
+  po::options_description all;
+  all.add(options).add(hidden);
+  po::positional_options_description positional;
+  positional.add("model", 1);
+  po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
+  if (vm.count("help")) {
+    std::cout << options << "\n";
+    return false;
+  }
+  po::notify(vm);
+  return true;
 }
 
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,

@@ -39,6 +39,12 @@ geometry::Model load_model(const std::string& path, const std::optional<std::str
 /// into `options`; call finish_source_options after parsing.
 void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
                         std::string& where, std::string& layer);
+/// Parses a command line of the form MODEL [options]: stores the model
+/// path, prints `options` and returns false for --help, else notifies.
+bool parse_model_command(const std::vector<std::string>& args,
+                         const boost::program_options::options_description& options, std::string& model_path,
+                         boost::program_options::variables_map& vm);
+
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
                            const std::string& where, const std::string& layer);
 
