@@ -298,7 +298,9 @@ class Reader {
     return it->second;
   }
 
-  static constexpr int kMaxDepth = 1000;
+  // Deep enough for any hand-written or generated CSG tree, shallow enough
+  // for sanitizer builds, whose stack frames are several times larger.
+  static constexpr int kMaxDepth = 256;
   Model& model_;
   const ModelOptions& options_;
   int depth_ = 0;
