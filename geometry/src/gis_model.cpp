@@ -1,4 +1,3 @@
-#include <sage/evaluator.hpp>
 #include <sage/geometry/gis_model.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_brep.hpp>
@@ -51,39 +50,6 @@ Bounds bounds_of(const PolygonSet& set) {
   return b;
 }
 
-// The convex-hull construction is not yet right for every simple polygon
-// (deeply interleaved pockets, as in Greenland's fjords, can get wrong
-// signs). Until it is, compare its sign with exact membership at sample
-// points and refuse to return a field that disagrees.
-void check_csg_signs(const Expr& field, const PolygonSet& set, const Bounds& b, const std::string& path) {
-  const PolygonClassifier exact(set);
-  const Tape tape(field, 2);
-  const int n = 2000;
-  std::vector<std::array<double, 2>> wrong;
-#pragma omp parallel
-  {
-    Evaluator<double> eval(tape);
-#pragma omp for schedule(dynamic, 64)
-    for (int i = 0; i < n; ++i) {
-      // A fixed low-discrepancy sequence (R2), so runs are repeatable.
-      const double u = std::fmod(0.5 + i * 0.7548776662466927, 1.0), v = std::fmod(0.5 + i * 0.5698402909980532, 1.0);
-      const double p[2] = {b.min[0] + u * (b.max[0] - b.min[0]), b.min[1] + v * (b.max[1] - b.min[1])};
-      const double side = exact.classify(p), value = eval.at({p[0], p[1], 0.0});
-      if (side != 0 && (side > 0) != (value > 0)) {
-#pragma omp critical
-        wrong.push_back({p[0], p[1]});
-      }
-    }
-  }
-  std::sort(wrong.begin(), wrong.end());  // filled in parallel: report a repeatable example
-  if (!wrong.empty())
-    throw ModelError(path + ": the CSG construction gave a wrong sign at " + std::to_string(wrong.size()) + " of " +
-                     std::to_string(n) + " sample points, e.g. (" + std::to_string(wrong[0][0]) + ", " +
-                     std::to_string(wrong[0][1]) +
-                     "): this polygon's pockets interleave in a way the decreasing convex hull does not yet "
-                     "handle; use --method brep");
-}
-
 }  // namespace
 
 bool is_gis_path(const std::string& path) {
@@ -114,9 +80,9 @@ Model load_gis(const std::string& path, const LoadOptions& options) {
   if (options.method == "csg") {
     CsgStatistics stats;
     m.field = polygon_csg(gis.polygons, m.rfunction, &stats);
-    check_csg_signs(m.field, gis.polygons, *m.bounds, path);
     m.notes.push_back("method: well-formed CSG by the decreasing convex hull, " + std::to_string(stats.halfplanes) +
-                      " halfplanes (each edge once), pocket depth " + std::to_string(stats.depth) + ", " +
+                      " edge halfplanes (each edge once) and " +
+                      std::to_string(stats.bridges) + " pocket bridges, pocket depth " + std::to_string(stats.depth) + ", " +
                       m.rfunction.name());
     if (options.certify) {
       const double band = 1e-3 * std::hypot(m.bounds->max[0] - m.bounds->min[0], m.bounds->max[1] - m.bounds->min[1]);

@@ -30,31 +30,35 @@ class RingFormula {
     for (std::size_t i = 0; i < n_; ++i) all[i] = i;
     std::vector<std::size_t> hull = hull_of(all);
     std::sort(hull.begin(), hull.end());
-    std::vector<Expr> steps;
-    for (std::size_t k = 0; k < hull.size(); ++k) {
-      const std::size_t from = hull[k], to = hull[(k + 1) % hull.size()];
-      steps.push_back(step(from, to, /*hull_on_left=*/true, 1));
-    }
+    std::vector<Expr> terms;
+    for (std::size_t k = 0; k < hull.size(); ++k)
+      add_step(hull[k], hull[(k + 1) % hull.size()], /*parent_hull_on_left=*/true, 1, terms);
     if (stats) {
       stats->halfplanes += halfplanes_;
+      stats->bridges += bridges_;
       stats->depth = std::max(stats->depth, depth_);
     }
-    return r_conjunction_n(steps, system_);
+    return r_conjunction_n(terms, system_);
   }
 
  private:
   std::size_t next(std::size_t i) const { return (i + 1) % n_; }
   std::size_t forward(std::size_t from, std::size_t to) const { return (to + n_ - from) % n_; }
 
-  // The term for the part of the ring from hull vertex `from` to `to`: an
+  // The terms for the part of the ring from hull vertex `from` to `to`: an
   // edge, or the pocket chain between them (whose hull lies on the other
-  // side of it than the parent's).
-  Expr step(std::size_t from, std::size_t to, bool parent_hull_on_left, int depth) {
+  // side of it than the parent's) and its bridge. The bridge's halfplane
+  // (left of from -> to, on the parent's side) makes the pocket's term
+  // exact beyond the bridge too (see polygon_csg.hpp).
+  void add_step(std::size_t from, std::size_t to, bool parent_hull_on_left, int depth, std::vector<Expr>& terms) {
     if (next(from) == to) {
       ++halfplanes_;
-      return edge_halfplane(ring_.points[from], ring_.points[to]);
+      terms.push_back(edge_halfplane(ring_.points[from], ring_.points[to]));
+      return;
     }
-    return chain(from, to, !parent_hull_on_left, depth);
+    terms.push_back(chain(from, to, !parent_hull_on_left, depth));
+    terms.push_back(edge_halfplane(ring_.points[from], ring_.points[to]));
+    ++bridges_;
   }
 
   // The chain from `first` to `last` (its end points are extreme on its
@@ -72,10 +76,9 @@ class RingFormula {
     if (hull.size() < 3 || hull.front() != first || hull.back() != last)
       throw std::logic_error(ring_.where() + ": degenerate pocket between vertices " + std::to_string(first) + " and " +
                              std::to_string(last) + " (ring not validated?)");
-    std::vector<Expr> steps;
-    for (std::size_t k = 0; k + 1 < hull.size(); ++k)
-      steps.push_back(step(hull[k], hull[k + 1], hull_on_left, depth + 1));
-    return hull_on_left ? r_conjunction_n(steps, system_) : r_disjunction_n(steps, system_);
+    std::vector<Expr> terms;
+    for (std::size_t k = 0; k + 1 < hull.size(); ++k) add_step(hull[k], hull[k + 1], hull_on_left, depth + 1, terms);
+    return hull_on_left ? r_conjunction_n(terms, system_) : r_disjunction_n(terms, system_);
   }
 
   std::vector<std::size_t> hull_of(const std::vector<std::size_t>& members) const {
@@ -90,6 +93,7 @@ class RingFormula {
   std::size_t n_;
   mutable std::vector<K::Point_2> points_;  // mutable: the hull traits take a non-const map
   std::size_t halfplanes_ = 0;
+  std::size_t bridges_ = 0;
   int depth_ = 0;
 };
 
