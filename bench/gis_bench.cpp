@@ -1,20 +1,24 @@
 // GIS polygon fields at scale: Greenland (19,989 edges, repaired), the
 // size of the classic paper's 20,748-edge Wisconsin. Prints the time to
-// read, validate and build each expression, and the time of brute-force
-// evaluation (every point runs the whole tape) on a grid, per point and
-// extrapolated to 1000 x 1000, for min/max and R0 CSG and the B-rep field.
-// Baseline in the same run: the grid evaluation of a single disk (the
-// per-point overhead of the evaluator without the polygon's size).
+// read, validate and build each expression; the time of brute-force
+// evaluation in doubles (every point runs the whole tape) on an N x N
+// grid, per point and extrapolated to 1000 x 1000; and the time of
+// `sage field`'s sampling (value and gradient, interval-pruned tapes,
+// pruned_grid.hpp) on an M x M grid, on one thread and on all cores, when
+// its estimate is under a minute. Baseline in the same run: a single disk.
 //
-// Usage: gis_bench [GEOJSON] [N]   (N x N grid points, default 64)
+// Usage: gis_bench [GEOJSON] [N] [M]   (defaults 64 and 1000)
 
 #include <sage/evaluator.hpp>
+#include <sage/field_samples.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_brep.hpp>
 #include <sage/geometry/polygon_csg.hpp>
 #include <sage/geometry/polygon_validation.hpp>
 #include <sage/grid.hpp>
 #include <sage/primitives.hpp>
+
+#include <omp.h>
 
 #include <chrono>
 #include <cstdio>
@@ -39,12 +43,25 @@ double evaluate_grid(const sage::Expr& field, const sage::Grid& grid, double* ch
   return t;
 }
 
+/// Seconds to sample value and gradient of `field` on `grid` with `threads`.
+double sample_grid(const sage::Expr& field, const sage::Grid& grid, int threads) {
+  const sage::Tape tape(field, 2);
+  const int all = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  const auto start = std::chrono::steady_clock::now();
+  const sage::FieldSamples samples = sage::sample_field(tape, grid, 1);
+  const double t = seconds(start);
+  omp_set_num_threads(all);
+  return t;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string path =
       argc > 1 ? argv[1] : std::string(SAGE_SOURCE_DIR) + "/../shared/data/gis/greenland_ne10m_EPSG3413.geojson";
   const int n = argc > 2 ? std::stoi(argv[2]) : 64;
+  const int m = argc > 3 ? std::stoi(argv[3]) : 1000;
 
   auto start = std::chrono::steady_clock::now();
   sage::geometry::LoadOptions options;
@@ -69,6 +86,10 @@ int main(int argc, char** argv) {
   grid.lo = {x0, y0, 0};
   grid.hi = {x1, y1, 0};
   grid.points = {n, n, 1};
+  sage::Grid big = grid;
+  big.points = {m, m, 1};
+  sage::Grid probe = grid;  // to estimate the sampling time before running it on `big`
+  probe.points = {m / 4, m / 4, 1};
 
   struct Case {
     const char* name;
@@ -82,10 +103,12 @@ int main(int argc, char** argv) {
       {"CSG minmax", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::min_max()); }},
       {"CSG r0", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r0()); }},
       {"CSG rp:4", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r_p(4)); }},
+      {"B-rep minmax", [&] { return sage::geometry::polygon_brep(set, sage::RSystem::min_max()); }},
       {"B-rep r0", [&] { return sage::geometry::polygon_brep(set, sage::RSystem::r0()); }},
   };
   std::printf("\n%-16s %10s %12s %14s %16s %14s\n", "field", "build s", "tape instr", "grid s", "ns/point/instr",
               "1000^2 est. s");
+  std::vector<std::pair<const Case*, sage::Expr>> fields;
   double baseline = 0;
   for (const Case& c : cases) {
     start = std::chrono::steady_clock::now();
@@ -99,7 +122,25 @@ int main(int argc, char** argv) {
     std::printf("%-16s %10.3f %12zu %14.3f %16.2f %14.1f   (%.0f%% inside, %.0fx baseline)\n", c.name, t_build,
                 instructions, t_grid, 1e9 * per_point / static_cast<double>(instructions), per_point * 1e6,
                 100.0 * positive / static_cast<double>(grid.size()), per_point / baseline);
+    fields.emplace_back(&c, field);
   }
-  std::printf("\ngrid %dx%d on all cores; brute force: every point runs the whole tape.\n", n, n);
+  std::printf("\nbrute force: grid %dx%d in doubles on all cores, every point runs the whole tape.\n", n, n);
+
+  std::printf("\nsage field sampling (value + gradient, pruned tapes) on %dx%d:\n", m, m);
+  std::printf("%-16s %14s %14s %14s\n", "field", "1 thread s", "all cores s", "brute est. s");
+  for (const auto& [c, field] : fields) {
+    const double estimate = sample_grid(field, probe, omp_get_max_threads()) * 16;
+    double brute = 0;
+    evaluate_grid(field, grid, &brute);
+    brute = evaluate_grid(field, grid, &brute) / static_cast<double>(grid.size()) * static_cast<double>(big.size());
+    if (estimate > 60) {
+      std::printf("%-16s %14s %14s %14.1f   (skipped: estimated %.0f s; no pruning of R-function nodes)\n", c->name,
+                  "-", "-", brute, estimate);
+      continue;
+    }
+    const double one = sample_grid(field, big, 1), all = sample_grid(field, big, omp_get_max_threads());
+    std::printf("%-16s %14.3f %14.3f %14.1f   (%.0fx faster than brute force doubles on all cores)\n", c->name, one,
+                all, brute, brute / all);
+  }
   return 0;
 }

@@ -1,4 +1,5 @@
 #include <sage/field_samples.hpp>
+#include <sage/pruned_grid.hpp>
 #include <sage/tuple.hpp>
 
 #include <cmath>
@@ -40,7 +41,7 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
     s.higher.push_back(std::move(d));
   }
 
-  for_each_grid_point<T>(
+  for_each_grid_point_pruned<T>(
       tape, grid,
       [&](std::size_t p, const Evaluator<T>& eval) {
         const T& t = eval.result();

@@ -47,7 +47,10 @@ class Tape {
   static std::uint32_t variable_register(int i) { return static_cast<std::uint32_t>(i); }
 
  private:
-  int dimension_;
+  friend class TapeSpecializer;  // builds tapes specialized to a box
+  Tape() = default;
+
+  int dimension_ = 0;
   std::size_t registers_ = 0;
   std::vector<Instruction> code_;
   std::vector<std::pair<std::uint32_t, double>> constants_;
