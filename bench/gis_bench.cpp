@@ -58,6 +58,7 @@ double sample_grid(const sage::Expr& field, const sage::Grid& grid, int threads)
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   const std::string path =
       argc > 1 ? argv[1] : std::string(SAGE_SOURCE_DIR) + "/../shared/data/gis/greenland_ne10m_EPSG3413.geojson";
   const int n = argc > 2 ? std::stoi(argv[2]) : 64;
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
   sage::Grid big = grid;
   big.points = {m, m, 1};
   sage::Grid probe = grid;  // to estimate the sampling time before running it on `big`
-  probe.points = {m / 4, m / 4, 1};
+  probe.points = {m / 16, m / 16, 1};
 
   struct Case {
     const char* name;
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
   std::printf("\nsage field sampling (value + gradient, pruned tapes) on %dx%d:\n", m, m);
   std::printf("%-16s %14s %14s %14s\n", "field", "1 thread s", "all cores s", "brute est. s");
   for (const auto& [c, field] : fields) {
-    const double estimate = sample_grid(field, probe, omp_get_max_threads()) * 16;
+    const double estimate = sample_grid(field, probe, omp_get_max_threads()) * 256;
     double brute = 0;
     evaluate_grid(field, grid, &brute);
     brute = evaluate_grid(field, grid, &brute) / static_cast<double>(grid.size()) * static_cast<double>(big.size());

@@ -41,7 +41,7 @@ TEST(TapeSpecialization, SameNumbersInsideTheBoxAndShorterTapes) {
   const Tape tape(disks(300, RSystem::min_max(), 1), 2);
   auto rng = test::make_rng(2);
   TapeSpecializer specializer(tape);
-  ASSERT_TRUE(specializer.can_prune());
+  ASSERT_TRUE(TapeSpecializer::worthwhile(tape));
   std::size_t longest = 0;
   for (int trial = 0; trial < 50; ++trial) {
     const double x = test::uniform(rng, -11, 11), y = test::uniform(rng, -11, 11), w = test::uniform(rng, 0.05, 0.5);
@@ -81,7 +81,7 @@ TEST(TapeSpecialization, StepsAndClassifiersFoldToConstants) {
 TEST(TapeSpecialization, R0TreesAreLeftWhole) {
   const Tape tape(disks(20, RSystem::r0(), 3), 2);
   TapeSpecializer specializer(tape);
-  EXPECT_FALSE(specializer.can_prune());
+  EXPECT_FALSE(TapeSpecializer::worthwhile(tape));
   const std::array<Interval, 3> box{Interval(0, 0.1), Interval(0, 0.1), Interval(0.0)};
   EXPECT_FALSE(specializer.specialize(box.data()).has_value());
   EXPECT_TRUE(specializer.result().lo <= specializer.result().hi);

@@ -39,7 +39,7 @@ inline std::array<Interval, 3> block_box(const Grid& grid, const GridBlock& b) {
   return box;
 }
 
-constexpr std::size_t kLeafPoints = 64;  // evaluate point by point below this
+constexpr std::size_t kLeafPoints = 16;  // evaluate point by point below this
 constexpr std::size_t kSmallTape = 16;   // too short to be worth specializing
 constexpr int kTaskDepth = 8;            // deeper blocks run in their parent's task
 
@@ -48,31 +48,29 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
                  std::atomic<std::size_t>& done, const Progress& progress) {
   if (block.size() > kLeafPoints && tape.code().size() > kSmallTape) {
     TapeSpecializer specializer(tape);
-    if (specializer.can_prune()) {
-      const std::array<Interval, 3> box = block_box(grid, block);
-      const std::optional<Tape> smaller = specializer.specialize(box.data());
-      const Tape& next = smaller ? *smaller : tape;
-      // Halve every axis that has more than one point.
-      std::array<int, 3> mid{};
-      for (int a = 0; a < 3; ++a) mid[a] = (block.lo[a] + block.hi[a]) / 2;
-      for (int c = 0; c < 8; ++c) {
-        GridBlock child = block;
-        bool skip = false;
-        for (int a = 0; a < 3; ++a) {
-          const bool upper = (c >> a) & 1;
-          if (block.hi[a] - block.lo[a] <= 1) {
-            skip |= upper;
-            continue;
-          }
-          (upper ? child.lo[a] : child.hi[a]) = mid[a];
+    const std::array<Interval, 3> box = block_box(grid, block);
+    const std::optional<Tape> smaller = specializer.specialize(box.data());
+    const Tape& next = smaller ? *smaller : tape;
+    // Halve every axis that has more than one point.
+    std::array<int, 3> mid{};
+    for (int a = 0; a < 3; ++a) mid[a] = (block.lo[a] + block.hi[a]) / 2;
+    for (int c = 0; c < 8; ++c) {
+      GridBlock child = block;
+      bool skip = false;
+      for (int a = 0; a < 3; ++a) {
+        const bool upper = (c >> a) & 1;
+        if (block.hi[a] - block.lo[a] <= 1) {
+          skip |= upper;
+          continue;
         }
-        if (skip) continue;
-#pragma omp task default(shared) firstprivate(child) if (depth < kTaskDepth)
-        visit_block<T>(next, grid, child, visit, depth + 1, done, progress);
+        (upper ? child.lo[a] : child.hi[a]) = mid[a];
       }
-#pragma omp taskwait
-      return;
+      if (skip) continue;
+#pragma omp task default(shared) firstprivate(child) if (depth < kTaskDepth)
+      visit_block<T>(next, grid, child, visit, depth + 1, done, progress);
     }
+#pragma omp taskwait
+    return;
   }
   Evaluator<T> eval(tape);
   const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
@@ -101,6 +99,7 @@ void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit,
   detail::GridBlock all;
   for (int a = 0; a < 3; ++a) all.hi[a] = grid.points[a];
   std::atomic<std::size_t> done{0};
+  if (!TapeSpecializer::worthwhile(tape)) return for_each_grid_point<T>(tape, grid, visit, progress);
 #pragma omp parallel
 #pragma omp single
   detail::visit_block<T>(tape, grid, all, visit, 0, done, progress);

@@ -15,7 +15,7 @@
 // R0, R_alpha and Rp nodes depend on both arguments everywhere, so they are
 // never pruned: their fields are exact only when evaluated whole.
 //
-//     TapeSpecializer specializer(tape);
+//     TapeSpecializer specializer(tape);   // if TapeSpecializer::worthwhile(tape)
 //     std::array<Interval, 3> box{Interval(0, 1), Interval(0, 1), Interval(0)};
 //     if (auto smaller = specializer.specialize(box.data())) use(*smaller);
 //     else use(tape);   // nothing to prune over this box
@@ -39,10 +39,11 @@ class TapeSpecializer {
   /// dropped. The roots' enclosures over the box are in result() either way.
   std::optional<Tape> specialize(const Interval* box);
 
-  /// Whether any instruction could ever be dropped (min, max, min/max
-  /// R-function nodes, steps, point classifiers). If not, specializing is
-  /// wasted work.
-  bool can_prune() const { return prunable_ > 0; }
+  /// Whether enough of `tape`'s instructions could ever be dropped (min,
+  /// max, min/max R-function nodes, steps, point classifiers: at least one
+  /// in 20) to pay for interval evaluations. An R0 tree glued to one point
+  /// classifier is not worth it. O(tape size): ask once per tape.
+  static bool worthwhile(const Tape& tape);
 
   /// Enclosure of root i over the last box.
   const Interval& result(std::size_t i = 0) const { return registers_[tape_->results()[i]]; }
@@ -57,7 +58,6 @@ class TapeSpecializer {
   std::vector<Interval> registers_;
   std::vector<Fate> fate_;
   std::vector<double> constant_;  // the value, for Fate::Constant
-  std::size_t prunable_ = 0;
 };
 
 }  // namespace sage
