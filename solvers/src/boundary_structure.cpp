@@ -51,8 +51,9 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     bool uniform = true;
     for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, problem.rest.value);
     // Data given piece by piece: interpolate between the named pieces.
-    s.dirichlet_extension =
-        uniform || dirichlet_values.empty() ? problem.rest.value : transfinite_interpolation(dirichlet_fields, dirichlet_values);
+    s.dirichlet_extension = uniform || dirichlet_values.empty()
+                                ? problem.rest.value
+                                : transfinite_interpolation(dirichlet_fields, dirichlet_values);
   } else if (dirichlet_fields.empty()) {
     if (!has_robin)
       throw std::invalid_argument(
@@ -62,7 +63,8 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     s.dirichlet_extension = 0.0;
   } else {
     Expr weight = dirichlet_fields[0];
-    for (std::size_t k = 1; k < dirichlet_fields.size(); ++k) weight = r_and(weight, dirichlet_fields[k], RSystem::r0());
+    for (std::size_t k = 1; k < dirichlet_fields.size(); ++k)
+      weight = r_and(weight, dirichlet_fields[k], RSystem::r0());
     s.dirichlet_weight = weight;
     s.dirichlet_extension = transfinite_interpolation(dirichlet_fields, dirichlet_values);
   }

@@ -67,7 +67,8 @@ void gauss_on_pieces(double a, double b, std::vector<double> breaks, int points,
     end = std::min(std::max(end, start), b);
     const double length = end - start;
     if (length > 1e-14 * (b - a)) {
-      for (std::size_t k = 0; k < rule.nodes.size(); ++k) visit(start + length * rule.nodes[k], length * rule.weights[k]);
+      for (std::size_t k = 0; k < rule.nodes.size(); ++k)
+        visit(start + length * rule.nodes[k], length * rule.weights[k]);
     }
     start = end;
   }
@@ -233,7 +234,8 @@ void CellQuadrature<D>::base_rule_2d(const Box<D>& box, int e, const Box<D>& bas
   double best = 0.0;
   for (int k = 0; k < 2; ++k) {
     double m = 1e300;
-    for (const auto& enclosure : face_enclosures) m = std::min(m, margin(enclosure[static_cast<std::size_t>(axes[k] + 1)]));
+    for (const auto& enclosure : face_enclosures)
+      m = std::min(m, margin(enclosure[static_cast<std::size_t>(axes[k] + 1)]));
     if (m > best) {
       best = m;
       height = axes[k];

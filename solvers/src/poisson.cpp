@@ -188,8 +188,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::size_t c = candidates[k];
-      rule.append_rule(cell_box(grid, c), kinds[c], volume[k],
-                       structure.has_weak_parts ? &surface[k] : nullptr);
+      rule.append_rule(cell_box(grid, c), kinds[c], volume[k], structure.has_weak_parts ? &surface[k] : nullptr);
     }
   }
   std::vector<char> active(cell_count, 0), inside(cell_count, 0);
@@ -233,8 +232,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   }
   surface_roots.push_back(problem.rest.beta);
   surface_roots.push_back(problem.rest.flux);
-  auto structure_tape = std::make_shared<Tape>(
-      std::vector<Expr>{structure.dirichlet_weight, structure.dirichlet_extension}, D);
+  auto structure_tape =
+      std::make_shared<Tape>(std::vector<Expr>{structure.dirichlet_weight, structure.dirichlet_extension}, D);
   const AssemblyTapes tapes{*structure_tape, Tape(std::vector<Expr>{problem.conductivity, problem.source}, D),
                             Tape(surface_roots, D)};
   solution.structure = structure_tape;
@@ -314,8 +313,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
           for (int a = D - 1; a >= 0; --a) offset = offset * (2 * n + 1) + (index[l][a] - index[j][a] + n);
           const double value = j >= l ? stiffness(j, l) : stiffness(l, j);
 #pragma omp atomic
-          band[static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) + static_cast<std::size_t>(offset)] +=
-              value;
+          band[static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
+               static_cast<std::size_t>(offset)] += value;
         }
       }
     }
@@ -341,7 +340,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   entries = {};
   const Eigen::SparseMatrix<double> E = basis.extension;
   const Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
-  const Eigen::VectorXd right = E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
+  const Eigen::VectorXd right =
+      E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
   report.nonzeros = static_cast<std::size_t>(system.nonZeros());
   report.seconds.assembly = timer.lap();
 
@@ -352,12 +352,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   if (direct) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
     if (factor.info() != Eigen::Success)
-      throw std::runtime_error("the sparse factorization failed: the system is singular (is the basis stable? try --basis web)");
+      throw std::runtime_error(
+          "the sparse factorization failed: the system is singular (is the basis stable? try --basis web)");
     coefficients = factor.solve(right);
     report.linear_solver = "sparse LDLT (AMD ordering)";
     report.iterations = 1;
   } else {
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>>
+    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
+                             Eigen::IncompleteCholesky<double>>
         cg;
     cg.setTolerance(options.cg_tolerance);
     cg.setMaxIterations(static_cast<Eigen::Index>(10 * system.rows() + 100));
@@ -375,7 +377,9 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   report.seconds.solve = timer.lap();
 
   if (options.estimate_condition) {
-    report.condition = estimate_condition(system).condition();
+    const ConditionEstimate estimate = estimate_condition(system);
+    report.condition = estimate.condition;
+    report.scaled_condition = estimate.scaled_condition;
     report.seconds.condition = timer.lap();
   }
 

@@ -145,7 +145,8 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
     }
     if (!found)
       throw std::runtime_error("the grid is too coarse for the WEB basis: an outer B-spline has no array of " +
-                               std::to_string(n + 1) + "^" + std::to_string(D) + " inner B-splines nearby (use more cells)");
+                               std::to_string(n + 1) + "^" + std::to_string(D) +
+                               " inner B-splines nearby (use more cells)");
     int total = 1;
     for (int a = 0; a < D; ++a) total *= n + 1;
     for (int k = 0; k < total; ++k) {

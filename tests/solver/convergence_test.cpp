@@ -5,7 +5,6 @@
 #include "manufactured.hpp"
 
 #include <sage/rfunction.hpp>
-#include <sage/trimming.hpp>
 
 #include <gtest/gtest.h>
 
@@ -19,8 +18,8 @@ std::array<Expr, 3> coordinates() { return {Expr::x(), Expr::y(), Expr::z()}; }
 Expr disk_solution(const std::array<Expr, 3>& p) { return cos(kPi * p[0]) * sin(kPi * p[1]) + p[0]; }
 
 PoissonProblem disk_problem() {
-  return dirichlet_problem(2, ball({0, 0, 0}, 1.0, 2), disk_solution(coordinates()),
-                           radial_extension(disk_solution, 2), {-1, -1, 0}, {1, 1, 0});
+  return dirichlet_problem(2, ball({0, 0, 0}, 1.0, 2), disk_solution(coordinates()), radial_extension(disk_solution, 2),
+                           {-1, -1, 0}, {1, 1, 0});
 }
 
 void expect_rates(const std::vector<RefinementRun>& runs, double l2_rate, double h1_rate) {
@@ -77,69 +76,57 @@ Expr l_shape_solution(const std::array<Expr, 3>& p) {
 TEST(PoissonConvergence, LShapeSingularSolution) {
   const RSystem r0 = RSystem::r0();
   const Expr domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -box({0, 0, 0}, {1, 1, 0}, 2, r0), r0);
+  const Expr x = Expr::x(), y = Expr::y();
   const Expr exact = l_shape_solution(coordinates());
-  // Data on the six edges, each a function along its edge only.
-  const std::vector<std::array<double, 4>> edges{{-1, -1, 1, -1}, {1, -1, 1, 0}, {1, 0, 0, 0},
-                                                 {0, 0, 0, 1},    {0, 1, -1, 1}, {-1, 1, -1, -1}};
-  std::vector<Expr> fields, data;
-  for (const auto& e : edges) {
-    fields.push_back(segment_field({e[0], e[1]}, {e[2], e[3]}, TrimMethod::Smooth));
-    auto p = coordinates();
-    if (e[0] == e[2]) p[0] = Expr(e[0]);  // vertical edge: data depend on y only
-    if (e[1] == e[3]) p[1] = Expr(e[1]);
-    data.push_back(l_shape_solution(p));
-  }
-  const PoissonProblem problem =
-      dirichlet_problem(2, domain, exact, transfinite_interpolation(fields, data), {-1, -1, 0}, {1, 1, 0});
-  // Sanity: the data are the solution on the boundary, not inside.
+  // g~ = u chi with chi = 1 on the outer edges (u = 0 on the re-entrant
+  // ones) and chi ~ r^2 at the corner: the data are u's boundary values,
+  // but the r^(2/3) singularity is left to omega Phi to approximate.
+  // (Transfinite interpolation of the six edge traces would add corner
+  // singularities of its own: the traces' tangential derivatives disagree
+  // at the convex corners.)
+  const Expr chi = 1.0 - square(1.0 - square(x)) * square(1.0 - square(y));
+  const PoissonProblem problem = dirichlet_problem(2, domain, exact, exact * chi, {-1, -1, 0}, {1, 1, 0});
   SolverOptions options;
   options.degree = 2;
+  options.estimate_condition = false;
   const auto runs = refine<2>(problem, options, {0.25, 0.125, 0.0625});
   for (const RefinementRun& r : runs) std::printf("  h = %-8.4g L2 %.3e  H1 %.3e\n", r.h, l2(r.report), h1(r.report));
-  const double rate = last_rate(runs, l2);
-  std::printf("  L2 rate %.2f (4/3 expected), H1 rate %.2f (2/3)\n", rate, last_rate(runs, h1));
-  EXPECT_GE(rate, 4.0 / 3.0 - 0.25);
-  EXPECT_GE(last_rate(runs, h1), 2.0 / 3.0 - 0.2);
+  const double l2_rate = last_rate(runs, l2), h1_rate = last_rate(runs, h1);
+  std::printf("  L2 rate %.2f (4/3 expected), H1 rate %.2f (2/3 expected)\n", l2_rate, h1_rate);
+  EXPECT_GE(l2_rate, 4.0 / 3.0 - 0.15);
+  EXPECT_GE(h1_rate, 2.0 / 3.0 - 0.15);
 }
 
 TEST(PoissonConvergence, SquareWithRobinHole) {
-  // Dirichlet on the square (-1,1)^2, Robin k du/dn + u = h on the hole r = 0.4, weakly.
+  // Dirichlet u = 0 on the square (-1,1)^2, Robin k du/dn + u = h on the
+  // hole r = 0.4, weakly. The Dirichlet part is selected by the product
+  // weight (1 - x^2)(1 - y^2) / 2: at convex corners an R-function weight
+  // behaves like a + b - |(a, b)|, and u / omega_D would not be smooth there.
   const RSystem r0 = RSystem::r0();
-  const Expr square_field = box({-1, -1, 0}, {1, 1, 0}, 2, r0);
+  const Expr x = Expr::x(), y = Expr::y();
   const Expr hole = ball({0, 0, 0}, 0.4, 2);
   PoissonProblem problem;
   problem.dimension = 2;
-  problem.domain = r_and(square_field, -hole, r0);
+  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
   problem.min = {-1, -1, 0};
   problem.max = {1, 1, 0};
-  const auto p = coordinates();
-  const Expr exact = disk_solution(p);
+  const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
   problem.exact = exact;
   problem.source = source_for(exact, problem.conductivity, 2);
-  BoundaryPart outer{"outer", square_field, BoundaryKind::Dirichlet, exact};
-  const Expr flux = -(p[0] * derivative(exact, 0) + p[1] * derivative(exact, 1)) / 0.4 + exact;
-  BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, 1.0, flux};
+  const Expr outward_flux = -(x * derivative(exact, 0) + y * derivative(exact, 1)) / 0.4;  // n = -(x, y) / r
+  const BoundaryPart outer{"outer", (1.0 - square(x)) * (1.0 - square(y)) * 0.5, BoundaryKind::Dirichlet, 0.0};
+  const BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, 1.0, outward_flux + exact};
   problem.parts = {outer, robin};
   problem.rest = robin;
-  // Edge data, each along its own edge, joined by transfinite interpolation.
-  const std::vector<std::array<double, 4>> edges{{-1, -1, 1, -1}, {1, -1, 1, 1}, {1, 1, -1, 1}, {-1, 1, -1, -1}};
-  std::vector<Expr> fields, data;
-  for (const auto& e : edges) {
-    fields.push_back(segment_field({e[0], e[1]}, {e[2], e[3]}, TrimMethod::Smooth));
-    auto q = coordinates();
-    if (e[0] == e[2]) q[0] = Expr(e[0]);
-    if (e[1] == e[3]) q[1] = Expr(e[1]);
-    data.push_back(disk_solution(q));
-  }
-  problem.dirichlet_extension = transfinite_interpolation(fields, data);
   SolverOptions options;
   options.degree = 2;
+  options.estimate_condition = false;
   expect_rates(refine<2>(problem, options, {0.2, 0.1, 0.05}), 3 - 0.3, 2 - 0.3);
+  options.degree = 3;
+  expect_rates(refine<2>(problem, options, {0.2, 0.1, 0.05}), 4 - 0.3, 3 - 0.3);
 }
 
-Expr ball_solution(const std::array<Expr, 3>& p) {
-  return sin(kPi * p[0]) * sin(kPi * p[1]) * sin(kPi * p[2]) + p[0];
-}
+Expr ball_solution(const std::array<Expr, 3>& p) { return sin(kPi * p[0]) * sin(kPi * p[1]) * sin(kPi * p[2]) + p[0]; }
 
 TEST(PoissonConvergence, UnitBallQuadratic) {
   const PoissonProblem problem = dirichlet_problem(3, ball({0, 0, 0}, 1.0, 3), ball_solution(coordinates()),
@@ -166,8 +153,8 @@ TEST(PoissonPatchTest, SplineSpaceSolutionIsReproduced) {
     options.basis = basis;
     options.quadrature_points = 6;
     const auto report = solve_poisson<2>(problem, options).report;
-    EXPECT_LT(*report.l2_error, 1e-10) << (basis == BasisKind::Web ? "web" : "weighted");
-    EXPECT_LT(*report.h1_error, 1e-9) << (basis == BasisKind::Web ? "web" : "weighted");
+    EXPECT_LT(*report.l2_error, 1e-9) << (basis == BasisKind::Web ? "web" : "weighted");
+    EXPECT_LT(*report.h1_error, 1e-8) << (basis == BasisKind::Web ? "web" : "weighted");
   }
   // Degree 1 cannot hold x y^2: the same test must then fail to reproduce.
   SolverOptions options;

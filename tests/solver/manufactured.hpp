@@ -25,9 +25,8 @@ inline Expr source_for(const Expr& u, const Expr& k, int dimension) {
 }
 
 /// A problem with Dirichlet data on the whole boundary.
-inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const Expr& exact,
-                                        const Expr& extension, std::array<double, 3> min,
-                                        std::array<double, 3> max) {
+inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const Expr& exact, const Expr& extension,
+                                        std::array<double, 3> min, std::array<double, 3> max) {
   PoissonProblem p;
   p.dimension = dimension;
   p.domain = domain;
@@ -57,7 +56,8 @@ struct RefinementRun {
 
 /// Solves on cell widths h, and returns the reports.
 template <int D>
-std::vector<RefinementRun> refine(const PoissonProblem& problem, SolverOptions options, const std::vector<double>& widths) {
+std::vector<RefinementRun> refine(const PoissonProblem& problem, SolverOptions options,
+                                  const std::vector<double>& widths) {
   std::vector<RefinementRun> runs;
   for (double h : widths) {
     options.cell_width = h;

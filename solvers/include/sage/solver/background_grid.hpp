@@ -73,7 +73,8 @@ struct BackgroundGrid {
   }
   std::size_t spline_linear(const std::array<int, D>& i) const {
     std::size_t k = 0;
-    for (int a = D - 1; a >= 0; --a) k = k * static_cast<std::size_t>(splines_along(a)) + static_cast<std::size_t>(i[a]);
+    for (int a = D - 1; a >= 0; --a)
+      k = k * static_cast<std::size_t>(splines_along(a)) + static_cast<std::size_t>(i[a]);
     return k;
   }
   std::array<int, D> spline_index(std::size_t linear) const {

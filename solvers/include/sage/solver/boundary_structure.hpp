@@ -11,8 +11,8 @@
 namespace sage::solver {
 
 struct BoundaryStructure {
-  Expr dirichlet_weight;     // omega_D (1 when there is no Dirichlet part)
-  Expr dirichlet_extension;  // g~ (0 when there is no Dirichlet part)
+  Expr dirichlet_weight;        // omega_D (1 when there is no Dirichlet part)
+  Expr dirichlet_extension;     // g~ (0 when there is no Dirichlet part)
   std::vector<Expr> selectors;  // per named part, >= 0 in the domain
   bool has_weak_parts = false;
 };

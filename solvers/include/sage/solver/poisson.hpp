@@ -40,15 +40,15 @@ namespace sage::solver {
 enum class LinearSolverKind { Automatic, Direct, ConjugateGradient };
 
 struct SolverOptions {
-  int degree = 3;               // 1 .. kMaxDegree
-  double cell_width = 0.05;     // h of the background grid
+  int degree = 3;            // 1 .. kMaxDegree
+  double cell_width = 0.05;  // h of the background grid
   BasisKind basis = BasisKind::Web;
   LinearSolverKind linear_solver = LinearSolverKind::Automatic;
   bool estimate_condition = true;
-  int quadrature_points = 0;    // per direction; 0: degree + 2
-  int max_subdivision = 4;      // cut-cell subdivisions (domain_quadrature.hpp)
-  double cg_tolerance = 1e-12;  // relative residual
-  bool keep_quadrature = false; // fill PoissonSolution::quadrature (to show users the rule)
+  int quadrature_points = 0;     // per direction; 0: degree + 2
+  int max_subdivision = 4;       // cut-cell subdivisions (domain_quadrature.hpp)
+  double cg_tolerance = 1e-12;   // relative residual
+  bool keep_quadrature = false;  // fill PoissonSolution::quadrature (to show users the rule)
 };
 
 /// The quadrature points used, for display: 3 coordinates per point (z = 0
@@ -67,8 +67,9 @@ struct SolveReport {
   std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
   std::size_t volume_points = 0, surface_points = 0;
   std::string linear_solver;
-  int iterations = 0;  // 1 for a direct solve
-  double condition = std::numeric_limits<double>::quiet_NaN();
+  int iterations = 0;                                                  // 1 for a direct solve
+  double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
+  double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
   StageSeconds seconds;
   /// Relative errors when the problem has an exact solution: L2 and the H1
   /// seminorm (|u - u_h|_1 / |u|_1).
@@ -80,7 +81,7 @@ class PoissonSolution {
  public:
   SolveReport report;
   SplineBasis<D> basis;
-  Eigen::VectorXd spline_coefficients;  // of the relevant B-splines (E c)
+  Eigen::VectorXd spline_coefficients;    // of the relevant B-splines (E c)
   std::shared_ptr<const Tape> structure;  // roots: omega_D, g~
   std::shared_ptr<const Tape> domain;     // omega
   QuadratureDump quadrature;              // when SolverOptions::keep_quadrature

@@ -40,8 +40,8 @@ struct PoissonProblem {
   Expr conductivity = 1.0;             // k > 0
   Expr source = 0.0;                   // f
   std::vector<BoundaryPart> parts;
-  BoundaryPart rest;              // the boundary no part claims
-  std::optional<Expr> exact;      // exact solution, for error norms
+  BoundaryPart rest;          // the boundary no part claims
+  std::optional<Expr> exact;  // exact solution, for error norms
   /// Overrides the Dirichlet extension g~ built from the parts' data (for
   /// tests and callers that have a better extension of the boundary data).
   std::optional<Expr> dirichlet_extension;

@@ -40,8 +40,8 @@ template <int D>
 struct SplineBasis {
   BackgroundGrid<D> grid;
   BasisKind kind = BasisKind::Web;
-  std::vector<std::size_t> relevant;    // global spline numbers, increasing
-  std::vector<long long> relevant_of;   // global spline number -> position in `relevant`, or -1
+  std::vector<std::size_t> relevant;   // global spline numbers, increasing
+  std::vector<long long> relevant_of;  // global spline number -> position in `relevant`, or -1
   std::size_t inner_count = 0;
   std::size_t outer_count = 0;
   Eigen::SparseMatrix<double> extension;  // relevant x unknowns
