@@ -17,19 +17,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-std::string line_and_column(const std::string& text, std::size_t byte) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
-
 class Reader {
  public:
   Reader(std::string path, ProblemFile& out) : path_(std::move(path)), out_(out) {}
@@ -190,7 +177,7 @@ ProblemFile read_problem_file(const std::string& path) {
   } catch (const Json::parse_error& e) {
     std::string what = e.what();
     const auto colon = what.rfind(": ");
-    throw ProblemError(path + ": " + line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
+    throw ProblemError(path + ": " + geometry::line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
                        ": malformed JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   } catch (const Json::exception& e) {
     throw ProblemError(path + ": malformed JSON: " + e.what());

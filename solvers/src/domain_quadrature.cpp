@@ -115,14 +115,15 @@ template <int D>
 void CellQuadrature<D>::append_rule(const Box<D>& box, CellKind kind, std::vector<VolumePoint<D>>& volume,
                                     std::vector<SurfacePoint<D>>* surface) {
   const Target target{&volume, surface};
-  if (kind == CellKind::Inside) tensor_rule(box, false, target);
+  if (kind == CellKind::Inside)
+    tensor_rule(box, false, options_.inside_points > 0 ? options_.inside_points : options_.points, target);
   if (kind == CellKind::Cut) cut_rule(box, 0, target);
 }
 
 template <int D>
-void CellQuadrature<D>::tensor_rule(const Box<D>& box, bool masked, Target target) {
-  const GaussRule& rule = gauss_legendre(options_.points);
-  const int q = options_.points;
+void CellQuadrature<D>::tensor_rule(const Box<D>& box, bool masked, int points, Target target) {
+  const GaussRule& rule = gauss_legendre(points);
+  const int q = points;
   int total = 1;
   for (int a = 0; a < D; ++a) total *= q;
   for (int k = 0; k < total; ++k) {
@@ -144,7 +145,7 @@ void CellQuadrature<D>::tensor_rule(const Box<D>& box, bool masked, Target targe
 template <int D>
 void CellQuadrature<D>::cut_rule(const Box<D>& box, int depth, Target target) {
   const auto enclosure = enclose(box);
-  if (enclosure[0].lo > 0) return tensor_rule(box, false, target);
+  if (enclosure[0].lo > 0) return tensor_rule(box, false, options_.points, target);
   if (enclosure[0].hi < 0) return;
   int height = -1;
   double best = 0.0;
@@ -157,7 +158,7 @@ void CellQuadrature<D>::cut_rule(const Box<D>& box, int depth, Target target) {
   }
   if (height < 0 && depth > 0) height = sampled_height(box, -1);
   if (height >= 0) return height_rule(box, height, target);
-  if (depth >= options_.max_depth) return tensor_rule(box, true, target);
+  if (depth >= options_.max_depth) return tensor_rule(box, true, options_.points, target);
   for (int child = 0; child < (1 << D); ++child) {
     Box<D> part = box;
     for (int a = 0; a < D; ++a) {

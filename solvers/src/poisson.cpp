@@ -80,6 +80,22 @@ void check_options(const PoissonProblem& problem, const SolverOptions& options) 
     if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
 }
 
+template <class Preconditioner>
+Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
+                                    const SolverOptions& options, SolveReport& report) {
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Preconditioner> cg;
+  cg.setTolerance(options.cg_tolerance);
+  cg.setMaxIterations(10 * system.rows() + 100);
+  cg.compute(system);
+  if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
+  Eigen::VectorXd x = cg.solve(right);
+  report.iterations = static_cast<int>(cg.iterations());
+  if (cg.info() != Eigen::Success)
+    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
+                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
+  return x;
+}
+
 }  // namespace
 
 template <int D>
@@ -106,7 +122,7 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
     if (r < 0) continue;
     const double c = solution_->spline_coefficients[r];
     s += c * local.value[k];
-    for (int a = 0; a < D; ++a) grad_s[a] += c * local.gradient[k][a];
+    for (int a = 0; a < D; ++a) grad_s[a] += c * local.gradient[a][k];
   }
   structure_.evaluate(x);
   const auto& w = structure_.result(0);
@@ -139,8 +155,11 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const auto grid = BackgroundGrid<D>::covering(min, max, options.cell_width, n);
   if (grid.spline_count() > 50'000'000ull)
     throw std::invalid_argument("the grid is too fine: " + std::to_string(grid.spline_count()) + " B-splines");
-  const QuadratureOptions quadrature{options.quadrature_points > 0 ? options.quadrature_points : n + 2,
-                                     options.max_subdivision};
+  // Gauss with n + 1 nodes in inside cells (exact for the polynomial part,
+  // degree 2n + 1), one more in cut cells, whose few points carry the
+  // boundary's geometry and the weak boundary terms.
+  const int points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
+  const QuadratureOptions quadrature{points + 1, points, options.max_subdivision};
   const std::size_t cell_count = grid.cell_count();
   std::vector<CellKind> kinds(cell_count);
 #pragma omp parallel
@@ -245,6 +264,17 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
   std::vector<double> load(relevant, 0.0);
   const int local_count = grid.local_count();
+  // Band position of the pair (j, l) of local splines: their offset
+  // difference, numbered in the (2n + 1)^D stencil.
+  std::vector<int> stencil_of_local(static_cast<std::size_t>(local_count));
+  int stencil_centre = 0;
+  for (int k = 0; k < local_count; ++k) {
+    const auto m = LocalSplines<D>::global_index({}, n, k);
+    int position = 0;
+    for (int a = D - 1; a >= 0; --a) position = position * (2 * n + 1) + m[a];
+    stencil_of_local[static_cast<std::size_t>(k)] = position;
+  }
+  for (int a = D - 1; a >= 0; --a) stencil_centre = stencil_centre * (2 * n + 1) + n;
   const double selector_tolerance = 1e-6 * grid.h;
 
 #pragma omp parallel
@@ -277,7 +307,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
           const double v = w.value() * local.value[j];
           double flux_of_g = 0.0;
           for (int a = 0; a < D; ++a) {
-            const double dv = local.value[j] * gw[a] + w.value() * local.gradient[j][a];
+            const double dv = local.value[j] * gw[a] + w.value() * local.gradient[a][j];
             gradients(j, static_cast<Eigen::Index>(p * D + a)) = scale * dv;
             flux_of_g += gg[a] * dv;
           }
@@ -300,17 +330,13 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
           for (int l = 0; l <= j; ++l) stiffness(j, l) += s.weight * data.beta * vj * w * local.value[l];
         }
       }
-      std::vector<std::array<int, D>> index(static_cast<std::size_t>(local_count));
-      for (int j = 0; j < local_count; ++j) {
-        index[j] = LocalSplines<D>::global_index(cell, n, j);
-        rows[j] = basis.relevant_of[grid.spline_linear(index[j])];
-      }
+      for (int j = 0; j < local_count; ++j)
+        rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
       for (int j = 0; j < local_count; ++j) {
 #pragma omp atomic
         load[static_cast<std::size_t>(rows[j])] += rhs[j];
         for (int l = 0; l < local_count; ++l) {
-          int offset = 0;
-          for (int a = D - 1; a >= 0; --a) offset = offset * (2 * n + 1) + (index[l][a] - index[j][a] + n);
+          const int offset = stencil_centre + stencil_of_local[l] - stencil_of_local[j];
           const double value = j >= l ? stiffness(j, l) : stiffness(l, j);
 #pragma omp atomic
           band[static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
@@ -346,10 +372,11 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   report.seconds.assembly = timer.lap();
 
   // Solve.
-  const bool direct = options.linear_solver == LinearSolverKind::Direct ||
-                      (options.linear_solver == LinearSolverKind::Automatic && D == 2);
+  LinearSolverKind kind = options.linear_solver;
+  if (kind == LinearSolverKind::Automatic)
+    kind = D == 2 ? LinearSolverKind::ConjugateGradient : LinearSolverKind::JacobiConjugateGradient;
   Eigen::VectorXd coefficients;
-  if (direct) {
+  if (kind == LinearSolverKind::Direct) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
     if (factor.info() != Eigen::Success)
       throw std::runtime_error(
@@ -357,20 +384,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     coefficients = factor.solve(right);
     report.linear_solver = "sparse LDLT (AMD ordering)";
     report.iterations = 1;
-  } else {
-    Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper,
-                             Eigen::IncompleteCholesky<double>>
-        cg;
-    cg.setTolerance(options.cg_tolerance);
-    cg.setMaxIterations(static_cast<Eigen::Index>(10 * system.rows() + 100));
-    cg.compute(system);
-    if (cg.info() != Eigen::Success) throw std::runtime_error("the incomplete Cholesky preconditioner failed");
-    coefficients = cg.solve(right);
+  } else if (kind == LinearSolverKind::ConjugateGradient) {
+    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, options, report);
     report.linear_solver = "conjugate gradients, incomplete Cholesky";
-    report.iterations = static_cast<int>(cg.iterations());
-    if (cg.info() != Eigen::Success)
-      throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
-                               " iterations (residual " + std::to_string(cg.error()) + ")");
+  } else {
+    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, options, report);
+    report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
   solution.spline_coefficients = E * coefficients;

@@ -65,7 +65,7 @@ TEST(BSpline, LocalSplinesReproduceLinearFunctions) {
     const auto i = LocalSplines<2>::global_index(cell, 3, k);
     const double greville = grid.lo[0] + grid.h * (i[0] - 3 + 0.5 * (3 + 1));
     sum += greville * local.value[k];
-    dx += greville * local.gradient[k][0];
+    dx += greville * local.gradient[0][k];
   }
   EXPECT_NEAR(sum, x[0], 1e-14);
   EXPECT_NEAR(dx, 1.0, 1e-13);

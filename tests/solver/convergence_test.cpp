@@ -18,8 +18,8 @@ std::array<Expr, 3> coordinates() { return {Expr::x(), Expr::y(), Expr::z()}; }
 Expr disk_solution(const std::array<Expr, 3>& p) { return cos(kPi * p[0]) * sin(kPi * p[1]) + p[0]; }
 
 PoissonProblem disk_problem() {
-  return dirichlet_problem(2, ball({0, 0, 0}, 1.0, 2), disk_solution(coordinates()), radial_extension(disk_solution, 2),
-                           {-1, -1, 0}, {1, 1, 0});
+  return dirichlet_problem(2, ball({0, 0, 0}, 1.0, 2), disk_solution(coordinates()),
+                           unit_sphere_extension(disk_solution, 2), {-1, -1, 0}, {1, 1, 0});
 }
 
 void expect_rates(const std::vector<RefinementRun>& runs, double l2_rate, double h1_rate) {
@@ -112,7 +112,7 @@ TEST(PoissonConvergence, SquareWithRobinHole) {
   problem.max = {1, 1, 0};
   const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
   problem.exact = exact;
-  problem.source = source_for(exact, problem.conductivity, 2);
+  problem.source = manufactured_source(exact, problem.conductivity, 2);
   const Expr outward_flux = -(x * derivative(exact, 0) + y * derivative(exact, 1)) / 0.4;  // n = -(x, y) / r
   const BoundaryPart outer{"outer", (1.0 - square(x)) * (1.0 - square(y)) * 0.5, BoundaryKind::Dirichlet, 0.0};
   const BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, 1.0, outward_flux + exact};
@@ -130,7 +130,7 @@ Expr ball_solution(const std::array<Expr, 3>& p) { return sin(kPi * p[0]) * sin(
 
 TEST(PoissonConvergence, UnitBallQuadratic) {
   const PoissonProblem problem = dirichlet_problem(3, ball({0, 0, 0}, 1.0, 3), ball_solution(coordinates()),
-                                                   radial_extension(ball_solution, 3), {-1, -1, -1}, {1, 1, 1});
+                                                   unit_sphere_extension(ball_solution, 3), {-1, -1, -1}, {1, 1, 1});
   SolverOptions options;
   options.degree = 2;
   options.estimate_condition = false;

@@ -1,11 +1,13 @@
 #pragma once
 // Manufactured solutions for the solver tests: the source term is
-// f = -div(k grad u), computed by symbolic differentiation, so every test
-// states only its exact solution, its domain and its boundary data.
+// f = -div(k grad u) (manufactured.hpp of the library), so every test
+// states only its exact solution, its domain and its boundary data; and
+// refinement studies with observed rates.
 
 #include <sage/derivative.hpp>
 #include <sage/expression.hpp>
 #include <sage/primitives.hpp>
+#include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 
 #include <array>
@@ -17,13 +19,6 @@ namespace sage::solver::manufactured {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// f = -div(k grad u).
-inline Expr source_for(const Expr& u, const Expr& k, int dimension) {
-  Expr f = 0.0;
-  for (int a = 0; a < dimension; ++a) f = f - derivative(k * derivative(u, a), a);
-  return f;
-}
-
 /// A problem with Dirichlet data on the whole boundary.
 inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const Expr& exact, const Expr& extension,
                                         std::array<double, 3> min, std::array<double, 3> max) {
@@ -32,21 +27,10 @@ inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const
   p.domain = domain;
   p.min = min;
   p.max = max;
-  p.source = source_for(exact, p.conductivity, dimension);
+  p.source = manufactured_source(exact, p.conductivity, dimension);
   p.exact = exact;
   p.dirichlet_extension = extension;
   return p;
-}
-
-/// u(x / s) with s = (1 + |x|^2) / 2: equal to u on the unit sphere, smooth,
-/// and built from u's values on rays only, so not u itself inside.
-inline Expr radial_extension(const std::function<Expr(const std::array<Expr, 3>&)>& u, int dimension) {
-  Expr r2 = 0.0;
-  for (int a = 0; a < dimension; ++a) r2 = r2 + square(Expr::var(a));
-  const Expr s = (1.0 + r2) * 0.5;
-  std::array<Expr, 3> p{Expr(0.0), Expr(0.0), Expr(0.0)};
-  for (int a = 0; a < dimension; ++a) p[a] = Expr::var(a) / s;
-  return u(p);
 }
 
 struct RefinementRun {

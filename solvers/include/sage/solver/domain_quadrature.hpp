@@ -65,8 +65,9 @@ struct Box {
 };
 
 struct QuadratureOptions {
-  int points = 5;     // Gauss nodes per direction and per piece
-  int max_depth = 4;  // subdivisions of a cut cell searching for a height direction
+  int points = 5;         // Gauss nodes per direction and per piece in cut cells
+  int inside_points = 0;  // per direction in inside cells (0: same as points)
+  int max_depth = 4;      // subdivisions of a cut cell searching for a height direction
 };
 
 /// omega and its gradient compiled for the three evaluations the rule needs.
@@ -94,7 +95,7 @@ class CellQuadrature {
   };
   double omega_at(const std::array<double, D>& p);
   std::array<Interval, D + 1> enclose(const Box<D>& box);
-  void tensor_rule(const Box<D>& box, bool masked, Target target);
+  void tensor_rule(const Box<D>& box, bool masked, int points, Target target);
   void cut_rule(const Box<D>& box, int depth, Target target);
   void height_rule(const Box<D>& box, int e, Target target);
   void base_rule_2d(const Box<D>& box, int e, const Box<D>& base, int depth, Target target);

@@ -15,33 +15,31 @@ namespace sage::solver {
 template <int D>
 struct LocalSplines {
   std::vector<double> value;
-  std::vector<std::array<double, D>> gradient;
+  std::array<std::vector<double>, D> gradient;  // gradient[a][k] = d B_k / d x_a
 
   void evaluate(const BackgroundGrid<D>& grid, const std::array<int, D>& cell, const double* x) {
-    const int n = grid.degree, count = grid.local_count();
-    value.resize(static_cast<std::size_t>(count));
-    gradient.resize(static_cast<std::size_t>(count));
+    const int n = grid.degree;
     std::array<std::array<double, kMaxDegree + 1>, D> v{}, d{};
     for (int a = 0; a < D; ++a) {
       const double t = (x[a] - grid.lo[a]) / grid.h - cell[a];
       bspline_on_cell(n, t, v[a].data(), d[a].data());
       for (int j = 0; j <= n; ++j) d[a][j] /= grid.h;
     }
-    for (int k = 0; k < count; ++k) {
-      std::array<int, D> m{};
-      int rest = k;
-      for (int a = 0; a < D; ++a) {
-        m[a] = rest % (n + 1);
-        rest /= n + 1;
-      }
-      double product = 1.0;
-      for (int a = 0; a < D; ++a) product *= v[a][m[a]];
-      value[k] = product;
-      for (int a = 0; a < D; ++a) {
-        double g = d[a][m[a]];
-        for (int b = 0; b < D; ++b)
-          if (b != a) g *= v[b][m[b]];
-        gradient[k][a] = g;
+    // Tensor expansion axis by axis (x fastest): after axis a the arrays
+    // hold the products over axes 0..a, for every offset combination.
+    value.assign(1, 1.0);
+    for (int c = 0; c < D; ++c) gradient[c].assign(1, 1.0);
+    for (int a = 0; a < D; ++a) {
+      const std::size_t length = value.size();
+      value.resize(length * static_cast<std::size_t>(n + 1));
+      for (int c = 0; c < D; ++c) gradient[c].resize(value.size());
+      for (int m = n; m >= 0; --m) {  // backwards: entries [0, length) are read last
+        const std::size_t base = length * static_cast<std::size_t>(m);
+        for (std::size_t j = 0; j < length; ++j) value[base + j] = value[j] * v[a][m];
+        for (int c = 0; c < D; ++c) {
+          const double factor = c == a ? d[a][m] : v[a][m];
+          for (std::size_t j = 0; j < length; ++j) gradient[c][base + j] = gradient[c][j] * factor;
+        }
       }
     }
   }

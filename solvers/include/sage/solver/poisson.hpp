@@ -37,7 +37,12 @@
 
 namespace sage::solver {
 
-enum class LinearSolverKind { Automatic, Direct, ConjugateGradient };
+/// Direct: sparse LDLT (AMD ordering). ConjugateGradient: preconditioned
+/// with incomplete Cholesky; JacobiConjugateGradient: with the diagonal
+/// (cheaper to set up, more iterations). Automatic: conjugate gradients
+/// with incomplete Cholesky in 2D, Jacobi in 3D, whose wider stencils
+/// make the incomplete factorization expensive.
+enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient };
 
 struct SolverOptions {
   int degree = 3;            // 1 .. kMaxDegree
