@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     const auto disk =
         unit_problem(2, [](const std::array<Expr, 3>& p) { return cos(kPi * p[0]) * sin(kPi * p[1]) + p[0]; });
     table<2>("Unit disk, u = cos(pi x) sin(pi y) + x", disk, 3, {16, 32, 64, 96, 128});
-    table<2>("Unit disk, u = cos(pi x) sin(pi y) + x", disk, 4, {16, 32, 48, 64});
+    table<2>("Unit disk, u = cos(pi x) sin(pi y) + x", disk, 4, {16, 32, 48, 56, 64});
   }
   if (which == "ball" || which == "all") {
     const auto ball3 = unit_problem(
