@@ -1,5 +1,5 @@
 // sage solve PROBLEM.json -o OUT.vtu [--degree 3] [--cells 64 | --h 0.01]
-//            [--basis web|weighted] [--solver auto|direct|cg] [--grid RES]
+//            [--basis web|weighted] [--solver auto|direct|cg|jacobi] [--grid RES]
 //            [--quadrature-points FILE.vtu] [--no-condition] [--quiet]
 
 #include "commands.hpp"
@@ -168,7 +168,8 @@ int run_solve(const std::vector<std::string>& args) {
   add("h", po::value(&h), "cell width (instead of --cells)");
   add("basis", po::value(&command.basis)->default_value("web"), "web (stable WEB-splines) or weighted");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
-      "auto (direct in 2D, cg in 3D), direct (sparse LDLT) or cg (conjugate gradients)");
+      "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
+      "or jacobi (conjugate gradients, Jacobi)");
   add("grid", po::value(&command.grid), "output points per axis, e.g. 200x200 (default: 4 per cell)");
   add("quadrature-points", po::value(&command.quadrature_path), "also write the quadrature points to this .vtu");
   add("no-condition", "skip the condition estimate");
@@ -199,8 +200,10 @@ int run_solve(const std::vector<std::string>& args) {
     command.options.linear_solver = solver::LinearSolverKind::Direct;
   } else if (command.linear_solver == "cg") {
     command.options.linear_solver = solver::LinearSolverKind::ConjugateGradient;
+  } else if (command.linear_solver == "jacobi") {
+    command.options.linear_solver = solver::LinearSolverKind::JacobiConjugateGradient;
   } else {
-    throw UsageError{"--solver must be auto, direct or cg, not '" + command.linear_solver + "'"};
+    throw UsageError{"--solver must be auto, direct, cg or jacobi, not '" + command.linear_solver + "'"};
   }
 
   const ProblemFile file = read_problem_file(command.problem_path);

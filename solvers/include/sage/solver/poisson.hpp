@@ -14,8 +14,7 @@
 //         = (f, v_i) - (k grad g~, grad v_i) + <h - beta g~, v_i>_{N,R}
 //
 // with v_i = omega_D B_i^web, assembled cell by cell on all cores and solved
-// with a sparse Cholesky factorization (2D default) or conjugate gradients
-// with an incomplete Cholesky preconditioner (3D default).
+// with conjugate gradients (LinearSolverKind) or a sparse LDLT.
 //
 // Pure Neumann problems (no Dirichlet part, no Robin part) are refused: u is
 // then determined only up to a constant and this solver does not add the
