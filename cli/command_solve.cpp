@@ -143,8 +143,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
       "errors %.3f, output %.3f\n",
       s.field, s.classification, s.quadrature, s.assembly, s.solve, s.condition, s.errors, output_seconds);
-  std::printf("wrote %s: %zu cells of a %dx%d%s grid\n", command.output_path.c_str(), kept, grid.points[0],
-              grid.points[1], D == 3 ? ("x" + std::to_string(grid.points[2])).c_str() : "");
+  std::printf("wrote %s: %zu cells of the grid of %zu points\n", command.output_path.c_str(), kept, grid.size());
 }
 
 }  // namespace

@@ -158,8 +158,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   // Gauss with n + 1 nodes in inside cells (exact for the polynomial part,
   // degree 2n + 1), one more in cut cells, whose few points carry the
   // boundary's geometry and the weak boundary terms.
-  const int points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
-  const QuadratureOptions quadrature{points + 1, points, options.max_subdivision};
+  const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
+  const QuadratureOptions quadrature{inside_points + 1, inside_points, options.max_subdivision};
   const std::size_t cell_count = grid.cell_count();
   std::vector<CellKind> kinds(cell_count);
 #pragma omp parallel
