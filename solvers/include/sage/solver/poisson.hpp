@@ -74,7 +74,8 @@ struct SolveReport {
   int iterations = 0;                                                  // 1 for a direct solve
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
-  StageSeconds seconds;
+  StageSeconds seconds;                                                // wall clock
+  StageSeconds cpu_seconds;                                            // process CPU time (all threads)
   /// Relative errors when the problem has an exact solution: L2 and the H1
   /// seminorm (|u - u_h|_1 / |u|_1).
   std::optional<double> l2_error, h1_error;
