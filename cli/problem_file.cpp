@@ -174,13 +174,11 @@ ProblemFile read_problem_file(const std::string& path) {
   Json top;
   try {
     top = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    std::string what = e.what();
-    const auto colon = what.rfind(": ");
-    throw ProblemError(path + ": " + geometry::line_and_column(text, e.byte > 0 ? e.byte - 1 : 0) +
-                       ": malformed JSON: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   } catch (const Json::exception& e) {
-    throw ProblemError(path + ": malformed JSON: " + e.what());
+    // nlohmann's message names the line and column; drop its "[json.exception...] " tag.
+    const std::string what = e.what();
+    const auto tag = what.find("] ");
+    throw ProblemError(path + ": malformed JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
   }
   ProblemFile out;
   Reader(path, out).read(top);

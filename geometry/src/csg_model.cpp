@@ -16,6 +16,8 @@ namespace sage::geometry {
 
 using Json = nlohmann::json;
 
+namespace {
+
 std::string line_and_column(const std::string& text, std::size_t byte) {
   std::size_t line = 1, column = 1;
   for (std::size_t i = 0; i < byte && i < text.size(); ++i) {
@@ -28,8 +30,6 @@ std::string line_and_column(const std::string& text, std::size_t byte) {
   }
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
-
-namespace {
 
 /// Reads nodes, keeping the file name and the JSON pointer for messages.
 class Reader {

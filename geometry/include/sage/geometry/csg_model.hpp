@@ -32,10 +32,6 @@ struct ModelOptions {
   std::optional<RSystem> rfunction;
 };
 
-/// "line L, column C" of the byte offset `byte` in `text`, for messages
-/// about JSON files (also used by the solver's problem files).
-std::string line_and_column(const std::string& text, std::size_t byte);
-
 /// Reads a model file. Throws ModelError.
 Model read_model(const std::string& path, const ModelOptions& options = {});
 /// Parses model text; `source` names it in messages. Throws ModelError.
