@@ -164,12 +164,13 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   if (grid.spline_count() > 50'000'000ull)
     throw std::invalid_argument("the grid is too fine: " + std::to_string(grid.spline_count()) + " B-splines");
   // Gauss with n + 1 nodes in inside cells (exact for the polynomial part,
-  // degree 2n + 1). In 2D one more in cut cells, whose few points carry
-  // the boundary's geometry and the weak boundary terms (the Robin test
-  // needs it at degree 3); in 3D cut cells already hold most of the points
-  // (the base is split at the faces' zero lines), and n + 1 keeps the rates.
+  // degree 2n + 1). One more in cut cells, whose points carry the
+  // boundary's geometry and the weak boundary terms; except for 3D
+  // problems with Dirichlet conditions only, where cut cells already hold
+  // most of the points (the base is split at the faces' zero lines) and
+  // n + 1 keeps the rates (set once the boundary structure is known).
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
-  const QuadratureOptions quadrature{inside_points + (D == 2 ? 1 : 0), inside_points, options.max_subdivision};
+  QuadratureOptions quadrature{inside_points + 1, inside_points, options.max_subdivision};
   const std::size_t cell_count = grid.cell_count();
   std::vector<CellKind> kinds(cell_count);
 #pragma omp parallel
@@ -206,6 +207,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   timer.lap(&StageSeconds::classification);
 
   const BoundaryStructure structure = boundary_structure(problem, interior);
+  if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
   // a weak condition may hold.

@@ -85,6 +85,18 @@ TEST(CliSolve, PlateExampleRuns) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
+TEST(CliSolve, BallWithRobinIn3D) {
+  const fs::path out = scratch("ball.vtu");
+  const Result r = run("solve " + problems("ball_robin.json") + " -o " + out.string() + " --degree 2 --cells 8");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("3D Poisson"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("condition estimate"), std::string::npos) << r.output;  // off in 3D by default
+  const auto l2 = r.output.find("L2 ");
+  ASSERT_NE(l2, std::string::npos) << r.output;
+  EXPECT_LT(std::stod(r.output.substr(l2 + 3)), 1e-4) << r.output;  // u is in the spline space
+  EXPECT_GT(fs::file_size(out), 0u);
+}
+
 TEST(CliSolve, BadInputNamesFileAndPlace) {
   struct Case {
     std::string boundary, extra, expected;
