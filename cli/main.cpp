@@ -3,6 +3,7 @@
 //   sage field MODEL -o OUT.vtu   sample a model's field on a grid
 //   sage info MODEL               summarize a model
 //   sage demo [-o DIR]            write fields of the bundled models
+//   sage solve PROBLEM -o OUT.vtu solve a boundary value problem
 
 #include "commands.hpp"
 
@@ -32,6 +33,7 @@ const char* kUsage =
     "  field MODEL -o OUT.vtu   sample a model's field and derivatives on a grid\n"
     "  info MODEL               summarize a model\n"
     "  demo [-o DIR]            write fields of the bundled example models\n"
+    "  solve PROBLEM -o OUT.vtu solve a Poisson problem on a model's domain\n"
     "\n"
     "Options:\n"
     "  -h, --help               show this help (sage COMMAND --help for a command)\n"
@@ -41,6 +43,7 @@ int dispatch(const std::string& command, const std::vector<std::string>& rest) {
   if (command == "field") return sage::cli::run_field(rest);
   if (command == "info") return sage::cli::run_info(rest);
   if (command == "demo") return sage::cli::run_demo(rest);
+  if (command == "solve") return sage::cli::run_solve(rest);
   std::cerr << "sage: unknown command '" << command << "'\n(see sage --help)\n";
   return 2;
 }

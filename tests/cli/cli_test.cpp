@@ -8,6 +8,8 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include "cli_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -23,33 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-Result run(const std::string& args) {
-  const std::string command = std::string(SAGE_EXECUTABLE) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "sage_cli_test";
-  fs::create_directories(dir);
-  return dir / name;
-}
-
-std::string write_file(const std::string& name, const std::string& text) {
-  const fs::path p = scratch(name);
-  std::ofstream(p) << text;
-  return p.string();
-}
+using namespace sage_cli_test;
 
 std::string model(const std::string& name) { return std::string(SAGE_SOURCE_DIR) + "/examples/models/" + name; }
 

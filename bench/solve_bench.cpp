@@ -1,0 +1,102 @@
+// solve_bench: work-precision tables of the meshfree Poisson solver (issue 4).
+//
+// For the unit disk (u = cos(pi x) sin(pi y) + x) and the unit ball
+// (u = sin(pi x) sin(pi y) sin(pi z) + x), Dirichlet data from the boundary
+// values only (unit_sphere_extension), WEB basis, refines the background
+// grid and prints per run: unknowns, CPU seconds per stage (field,
+// classification, quadrature, assembly, solve; process CPU time, so a
+// one-thread run on a busy machine still measures the work), their total,
+// the wall-clock total, the process's peak resident memory so far, and the
+// relative L2 and H1 errors reached.
+// Compare with the goals of the issue: disk to 1e-7 with <= 2e4 unknowns in
+// < 0.65 s; ball to 1e-4 with <= 2e4 unknowns in < 3 s and < 500 MB.
+//
+//   solve_bench [disk|ball|all]     (OMP_NUM_THREADS=1 for one-thread figures)
+
+#include <sage/primitives.hpp>
+#include <sage/solver/manufactured.hpp>
+#include <sage/solver/poisson.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace {
+
+using namespace sage;
+using namespace sage::solver;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Peak resident set size of this process so far, in MB (Linux).
+double peak_megabytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0.0;
+}
+
+template <int D>
+void table(const char* title, const PoissonProblem& problem, int degree, const std::vector<int>& cells_across) {
+  std::printf("\n%s, degree %d, WEB basis\n", title, degree);
+  std::printf("%6s %9s %8s %8s %8s %8s %8s %8s %8s %8s %10s %10s\n", "cells", "unknowns", "field", "classify", "quadr.",
+              "assembly", "solve", "cpu s", "wall s", "peak MB", "L2 rel.", "H1 rel.");
+  for (int n : cells_across) {
+    SolverOptions options;
+    options.degree = degree;
+    options.cell_width = 2.0 / n;
+    options.estimate_condition = false;
+    const SolveReport r = solve_poisson<D>(problem, options).report;
+    const StageSeconds& s = r.cpu_seconds;
+    const double total = s.total() - s.errors;  // error norms are not part of the solve
+    const double wall = r.seconds.total() - r.seconds.errors;
+    std::printf("%6d %9zu %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.0f %10.3e %10.3e\n", n, r.unknowns, s.field,
+                s.classification, s.quadrature, s.assembly, s.solve, total, wall, peak_megabytes(), *r.l2_error,
+                *r.h1_error);
+    std::fflush(stdout);
+  }
+}
+
+PoissonProblem unit_problem(int dimension, const std::function<Expr(const std::array<Expr, 3>&)>& u) {
+  PoissonProblem p;
+  p.dimension = dimension;
+  p.domain = ball({0, 0, 0}, 1.0, dimension);
+  p.min = {-1, -1, dimension == 3 ? -1.0 : 0.0};
+  p.max = {1, 1, dimension == 3 ? 1.0 : 0.0};
+  const Expr exact = u({Expr::x(), Expr::y(), Expr::z()});
+  p.exact = exact;
+  p.source = manufactured_source(exact, p.conductivity, dimension);
+  p.dirichlet_extension = unit_sphere_extension(u, dimension);
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string which = argc > 1 ? argv[1] : "all";
+  int threads = 1;
+#ifdef _OPENMP
+  threads = omp_get_max_threads();
+#endif
+  std::printf("solve_bench: %d thread(s); stage columns in CPU seconds; errors are relative\n", threads);
+  if (which == "disk" || which == "all") {
+    const auto disk =
+        unit_problem(2, [](const std::array<Expr, 3>& p) { return cos(kPi * p[0]) * sin(kPi * p[1]) + p[0]; });
+    table<2>("Unit disk, u = cos(pi x) sin(pi y) + x", disk, 3, {16, 32, 64, 96, 128});
+    table<2>("Unit disk, u = cos(pi x) sin(pi y) + x", disk, 4, {16, 32, 48, 56, 64});
+  }
+  if (which == "ball" || which == "all") {
+    const auto ball3 = unit_problem(
+        3, [](const std::array<Expr, 3>& p) { return sin(kPi * p[0]) * sin(kPi * p[1]) * sin(kPi * p[2]) + p[0]; });
+    table<3>("Unit ball, u = sin(pi x) sin(pi y) sin(pi z) + x", ball3, 2, {8, 12, 16, 24});
+    table<3>("Unit ball, u = sin(pi x) sin(pi y) sin(pi z) + x", ball3, 3, {8, 12, 16, 18, 20});
+  }
+  return 0;
+}

@@ -1,0 +1,228 @@
+// sage solve PROBLEM.json -o OUT.vtu [--degree 3] [--cells 64 | --h 0.01]
+//            [--basis web|weighted] [--solver auto|direct|cg|jacobi] [--grid RES]
+//            [--quadrature-points FILE.vtu] [--condition | --no-condition] [--quiet]
+
+#include "commands.hpp"
+#include "field_job.hpp"
+#include "problem_file.hpp"
+
+#include <sage/output/point_arrays.hpp>
+#include <sage/solver/bspline.hpp>
+#include <sage/solver/poisson.hpp>
+
+#include <boost/program_options.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace po = boost::program_options;
+
+namespace sage::cli {
+
+namespace {
+
+struct SolveCommand {
+  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid;
+  solver::SolverOptions options;
+  std::optional<int> cells;
+  std::optional<double> h;
+  bool quiet = false;
+};
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// The output grid: --grid, else 4 points per background cell (at most 401
+/// per axis in 2D, 2 and 97 in 3D), over the problem's box.
+Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h) {
+  Grid grid;
+  grid.dimension = problem.dimension;
+  grid.lo = problem.min;
+  grid.hi = problem.max;
+  if (!command.grid.empty()) {
+    try {
+      grid.points = Grid::parse_resolution(command.grid, problem.dimension);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{std::string("--grid: ") + e.what()};
+    }
+  } else {
+    const int per_cell = problem.dimension == 2 ? 4 : 2, cap = problem.dimension == 2 ? 401 : 97;
+    for (int a = 0; a < problem.dimension; ++a)
+      grid.points[a] = std::clamp(static_cast<int>(std::ceil((grid.hi[a] - grid.lo[a]) / h)) * per_cell + 1, 2, cap);
+  }
+  if (problem.dimension == 2) grid.points[2] = 1;
+  return grid;
+}
+
+template <int D>
+void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
+  const solver::PoissonProblem& problem = file.problem;
+  solver::PoissonSolution<D> solution;
+  try {
+    solution = solver::solve_poisson<D>(problem, command.options);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(command.problem_path + ": " + e.what());
+  }
+  const solver::SolveReport& r = solution.report;
+
+  const auto start = std::chrono::steady_clock::now();
+  const Grid grid = output_grid(command, problem, command.options.cell_width);
+  const std::size_t n = grid.size();
+  output::PointArray u{"u", 1, std::vector<double>(n)}, grad{"grad_u", 3, std::vector<double>(3 * n, 0.0)},
+      omega{"omega", 1, std::vector<double>(n)};
+  output::PointArray exact{"u_exact", 1, {}}, error{"error", 1, {}};
+  std::optional<Tape> exact_tape;
+  if (problem.exact) {
+    exact_tape.emplace(*problem.exact, D);
+    exact.values.resize(n);
+    error.values.resize(n);
+  }
+#pragma omp parallel
+  {
+    typename solver::PoissonSolution<D>::Probe probe(solution);
+    std::optional<Evaluator<double>> exact_eval;
+    if (exact_tape) exact_eval.emplace(*exact_tape);
+#pragma omp for schedule(dynamic, 1024)
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto p = grid.point(i);
+      double g[3] = {0, 0, 0};
+      u.values[i] = probe.at(p.data(), g);
+      for (int a = 0; a < D; ++a) grad.values[3 * i + static_cast<std::size_t>(a)] = g[a];
+      omega.values[i] = probe.omega(p.data());
+      if (exact_eval) {
+        exact_eval->evaluate(p.data());
+        exact.values[i] = exact_eval->result();
+        error.values[i] = u.values[i] - exact.values[i];
+      }
+    }
+  }
+  // Keep the cells with a corner in the domain: they cover it.
+  std::vector<char> keep(grid.cell_count(), 0);
+  std::size_t kept = 0;
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
+    const std::size_t cx = nx - 1, cy = ny - 1;
+    const std::size_t i = c % cx, j = (c / cx) % cy, k = c / cx / cy;
+    for (int corner = 0; corner < (1 << D) && !keep[c]; ++corner) {
+      const std::size_t index = (i + (corner & 1)) + nx * ((j + ((corner >> 1) & 1)) + ny * (k + ((corner >> 2) & 1)));
+      keep[c] = omega.values[index] >= 0 ? 1 : 0;
+    }
+    kept += keep[c] ? 1 : 0;
+  }
+  std::vector<output::PointArray> arrays{u, grad, omega};
+  if (problem.exact) {
+    arrays.push_back(exact);
+    arrays.push_back(error);
+  }
+  output::write_point_arrays(command.output_path, grid, arrays, keep);
+  if (!command.quadrature_path.empty()) {
+    const solver::QuadratureDump& q = solution.quadrature;
+    output::write_scattered_points(command.quadrature_path, q.coordinates,
+                                   {{"weight", 1, q.weights}, {"on_surface", 1, q.on_surface}});
+  }
+  const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  if (command.quiet) return;
+  const auto& s = r.seconds;
+  std::printf("%s: %dD Poisson, degree %d, %s basis, h = %g\n", command.problem_path.c_str(), D, command.options.degree,
+              command.basis.c_str(), command.options.cell_width);
+  std::printf("  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface\n", r.cells,
+              r.cells_inside, r.cells_cut, r.volume_points, r.surface_points);
+  std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
+              r.outer_splines, r.nonzeros);
+  std::printf("  solver: %s, %d iteration%s", r.linear_solver.c_str(), r.iterations, r.iterations == 1 ? "" : "s");
+  if (std::isfinite(r.condition))
+    std::printf("; condition estimate %.3g (%.3g after diagonal scaling)", r.condition, r.scaled_condition);
+  std::printf("\n");
+  if (r.l2_error) std::printf("  relative errors: L2 %.3e, H1 seminorm %.3e\n", *r.l2_error, *r.h1_error);
+  std::printf(
+      "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
+      "errors %.3f, output %.3f\n",
+      s.field, s.classification, s.quadrature, s.assembly, s.solve, s.condition, s.errors, output_seconds);
+  std::printf("wrote %s: %zu cells of the grid of %zu points\n", command.output_path.c_str(), kept, grid.size());
+}
+
+}  // namespace
+
+int run_solve(const std::vector<std::string>& args) {
+  SolveCommand command;
+  int cells = 0;
+  double h = 0.0;
+  po::options_description options(
+      "Usage: sage solve PROBLEM.json -o OUT.vtu [options]\n"
+      "Solves -div(k grad u) = f with Dirichlet, Neumann and Robin conditions on the\n"
+      "domain of PROBLEM.json (see README.md, \"Solving boundary value problems\"),\n"
+      "with B-splines on a background grid: no mesh of the domain. Writes point\n"
+      "arrays u, grad_u, omega (and u_exact, error) on the cells covering the domain.\n\n"
+      "Options");
+  auto add = options.add_options();
+  add("help,h", "show this help");
+  add("output,o", po::value(&command.output_path)->required(), "output file (.vtu)");
+  add("degree", po::value(&command.options.degree)->default_value(3), "B-spline degree, 1 to 5");
+  add("cells", po::value(&cells), "cells across the longest side of the box (default 64 in 2D, 20 in 3D)");
+  add("h", po::value(&h), "cell width (instead of --cells)");
+  add("basis", po::value(&command.basis)->default_value("web"), "web (stable WEB-splines) or weighted");
+  add("solver", po::value(&command.linear_solver)->default_value("auto"),
+      "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
+      "or jacobi (conjugate gradients, Jacobi)");
+  add("grid", po::value(&command.grid), "output points per axis, e.g. 200x200 (default: 4 per cell)");
+  add("quadrature-points", po::value(&command.quadrature_path), "also write the quadrature points to this .vtu");
+  add("no-condition", "skip the condition estimate (2D default: on)");
+  add("condition", "estimate the condition number in 3D too (two sparse factorizations: slow)");
+  add("quiet,q", "no summary");
+  po::variables_map vm;
+  if (!parse_model_command(args, options, command.problem_path, vm)) return 0;
+  if (vm.count("cells")) command.cells = cells;
+  if (vm.count("h")) command.h = h;
+  command.quiet = vm.count("quiet") > 0;
+  if (vm.count("condition") && vm.count("no-condition")) throw UsageError{"give --condition or --no-condition"};
+  command.options.keep_quadrature = !command.quadrature_path.empty();
+  if (!ends_with(command.output_path, ".vtu")) throw UsageError{"-o " + command.output_path + ": must end in .vtu"};
+  if (!command.quadrature_path.empty() && !ends_with(command.quadrature_path, ".vtu"))
+    throw UsageError{"--quadrature-points " + command.quadrature_path + ": must end in .vtu"};
+  if (command.cells && command.h) throw UsageError{"give --cells or --h, not both"};
+  if (command.options.degree < 1 || command.options.degree > solver::kMaxDegree)
+    throw UsageError{"--degree must be from 1 to " + std::to_string(solver::kMaxDegree)};
+  if (command.cells && *command.cells < 1) throw UsageError{"--cells must be positive"};
+  if (command.h && !(*command.h > 0.0)) throw UsageError{"--h must be positive"};
+  try {
+    command.options.basis = solver::parse_basis_kind(command.basis);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--basis: ") + e.what()};
+  }
+  if (command.linear_solver == "auto") {
+    command.options.linear_solver = solver::LinearSolverKind::Automatic;
+  } else if (command.linear_solver == "direct") {
+    command.options.linear_solver = solver::LinearSolverKind::Direct;
+  } else if (command.linear_solver == "cg") {
+    command.options.linear_solver = solver::LinearSolverKind::ConjugateGradient;
+  } else if (command.linear_solver == "jacobi") {
+    command.options.linear_solver = solver::LinearSolverKind::JacobiConjugateGradient;
+  } else {
+    throw UsageError{"--solver must be auto, direct, cg or jacobi, not '" + command.linear_solver + "'"};
+  }
+
+  const ProblemFile file = read_problem_file(command.problem_path);
+  const solver::PoissonProblem& problem = file.problem;
+  command.options.estimate_condition =
+      vm.count("condition") > 0 || (vm.count("no-condition") == 0 && problem.dimension == 2);
+  if (command.h) {
+    command.options.cell_width = *command.h;
+  } else {
+    double longest = 0.0;
+    for (int a = 0; a < problem.dimension; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+    command.options.cell_width = longest / command.cells.value_or(problem.dimension == 2 ? 64 : 20);
+  }
+  if (problem.dimension == 2) {
+    solve_and_write<2>(command, file);
+  } else {
+    solve_and_write<3>(command, file);
+  }
+  return 0;
+}
+
+}  // namespace sage::cli

@@ -1,0 +1,188 @@
+#include "problem_file.hpp"
+
+#include <sage/formula.hpp>
+#include <sage/geometry/csg_model.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace sage::cli {
+
+namespace {
+
+using Json = nlohmann::json;
+
+class Reader {
+ public:
+  Reader(std::string path, ProblemFile& out) : path_(std::move(path)), out_(out) {}
+
+  void read(const Json& top) {
+    if (!top.is_object()) fail("", "a problem file is a JSON object");
+    check_keys(top, "", {"name", "description", "domain", "bounds", "conductivity", "source", "boundary", "exact"});
+    if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
+    read_domain(top["domain"]);
+    solver::PoissonProblem& p = out_.problem;
+    p.dimension = out_.model.dimension;
+    p.domain = out_.model.field;
+    read_bounds(top);
+    if (top.contains("conductivity")) p.conductivity = formula(top["conductivity"], "/conductivity");
+    if (top.contains("source")) p.source = formula(top["source"], "/source");
+    if (top.contains("exact")) {
+      p.exact = formula(top["exact"], "/exact");
+      out_.exact_formula = top["exact"].is_string() ? top["exact"].get<std::string>() : top["exact"].dump();
+    }
+    if (top.contains("boundary")) read_boundary(top["boundary"]);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+    throw ProblemError(path_ + ": at " + (pointer.empty() ? "/" : pointer) + ": " + message);
+  }
+
+  void check_keys(const Json& object, const std::string& pointer, const std::set<std::string>& allowed) const {
+    for (const auto& [key, value] : object.items())
+      if (!allowed.count(key)) fail(pointer + "/" + key, "unknown key \"" + key + "\"");
+  }
+
+  Expr formula(const Json& value, const std::string& pointer) const {
+    if (value.is_number()) return Expr(value.get<double>());
+    if (!value.is_string()) fail(pointer, "expected a formula (string) or a number");
+    try {
+      return parse_formula(value.get<std::string>(), out_.model.dimension);
+    } catch (const FormulaError& e) {
+      fail(pointer, std::string("bad formula: ") + e.what());
+    } catch (const std::invalid_argument& e) {
+      fail(pointer, std::string("bad formula: ") + e.what());
+    }
+  }
+
+  void read_domain(const Json& domain) {
+    if (domain.is_string()) {
+      std::filesystem::path model_path(domain.get<std::string>());
+      if (model_path.is_relative()) model_path = std::filesystem::path(path_).parent_path() / model_path;
+      out_.model = geometry::load_model(model_path.string());
+    } else if (domain.is_object()) {
+      out_.model = geometry::parse_model(domain.dump(), path_ + " (/domain)");
+    } else {
+      fail("/domain", "expected an inline CSG model (object) or the path of a model file (string)");
+    }
+  }
+
+  void read_bounds(const Json& top) {
+    solver::PoissonProblem& p = out_.problem;
+    const int d = p.dimension;
+    if (top.contains("bounds")) {
+      const Json& b = top["bounds"];
+      if (!b.is_object() || !b.contains("min") || !b.contains("max"))
+        fail("/bounds", "expected { \"min\": [...], \"max\": [...] }");
+      for (const char* key : {"min", "max"}) {
+        const Json& v = b[key];
+        if (!v.is_array() || static_cast<int>(v.size()) != d ||
+            !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); }))
+          fail(std::string("/bounds/") + key, "expected " + std::to_string(d) + " numbers");
+        for (int a = 0; a < d; ++a) (key[1] == 'i' ? p.min : p.max)[a] = v[static_cast<std::size_t>(a)].get<double>();
+      }
+    } else if (out_.model.bounds) {
+      for (int a = 0; a < d; ++a) {
+        p.min[a] = out_.model.bounds->min[a];
+        p.max[a] = out_.model.bounds->max[a];
+      }
+    } else {
+      fail("/bounds", "the domain model has no bounds: give \"bounds\": { \"min\": [...], \"max\": [...] }");
+    }
+    for (int a = 0; a < d; ++a)
+      if (!(p.max[a] > p.min[a])) fail("/bounds", "max must exceed min on every axis");
+  }
+
+  solver::BoundaryPart read_condition(const Json& c, const std::string& pointer, const std::string& name) const {
+    if (!c.is_object()) fail(pointer, "expected an object with \"type\"");
+    check_keys(c, pointer, {"type", "value", "flux", "beta", "selector"});
+    if (!c.contains("type") || !c["type"].is_string()) fail(pointer, "missing \"type\": dirichlet, neumann or robin");
+    solver::BoundaryPart part;
+    part.name = name;
+    const std::string type = c["type"].get<std::string>();
+    auto allow_only = [&](std::set<std::string> keys) {
+      keys.insert("type");
+      keys.insert("selector");
+      check_keys(c, pointer, keys);
+    };
+    if (type == "dirichlet") {
+      allow_only({"value"});
+      part.kind = solver::BoundaryKind::Dirichlet;
+      if (c.contains("value")) part.value = formula(c["value"], pointer + "/value");
+    } else if (type == "neumann") {
+      allow_only({"flux"});
+      part.kind = solver::BoundaryKind::Neumann;
+      if (c.contains("flux")) part.flux = formula(c["flux"], pointer + "/flux");
+    } else if (type == "robin") {
+      allow_only({"flux", "beta"});
+      part.kind = solver::BoundaryKind::Robin;
+      if (!c.contains("beta")) fail(pointer, "a robin condition needs \"beta\"");
+      part.beta = formula(c["beta"], pointer + "/beta");
+      if (c.contains("flux")) part.flux = formula(c["flux"], pointer + "/flux");
+    } else {
+      fail(pointer + "/type", "unknown type '" + type + "' (use dirichlet, neumann or robin)");
+    }
+    return part;
+  }
+
+  void read_boundary(const Json& boundary) {
+    if (!boundary.is_object()) fail("/boundary", "expected an object mapping part names to conditions");
+    solver::PoissonProblem& p = out_.problem;
+    for (const auto& [name, condition] : boundary.items()) {
+      const std::string pointer = "/boundary/" + name;
+      solver::BoundaryPart part = read_condition(condition, pointer, name);
+      if (name == "default") {
+        if (condition.contains("selector")) fail(pointer + "/selector", "the default part takes no selector");
+        p.rest = part;
+        continue;
+      }
+      if (condition.contains("selector")) {
+        part.selector = formula(condition["selector"], pointer + "/selector");
+      } else {
+        const auto named = out_.model.named.find(name);
+        if (named == out_.model.named.end()) {
+          std::string known;
+          for (const auto& [n, e] : out_.model.named) known += (known.empty() ? "" : ", ") + n;
+          fail(pointer, "unknown boundary part '" + name + "': the model names " +
+                            (known.empty() ? std::string("no parts") : known) +
+                            " (or give a \"selector\" formula that vanishes on the part)");
+        }
+        part.selector = named->second;
+      }
+      p.parts.push_back(part);
+    }
+  }
+
+  std::string path_;
+  ProblemFile& out_;
+};
+
+}  // namespace
+
+ProblemFile read_problem_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ProblemError(path + ": cannot open the problem file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  Json top;
+  try {
+    top = Json::parse(text);
+  } catch (const Json::exception& e) {
+    // nlohmann's message names the line and column; drop its "[json.exception...] " tag.
+    const std::string what = e.what();
+    const auto tag = what.find("] ");
+    throw ProblemError(path + ": malformed JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
+  }
+  ProblemFile out;
+  Reader(path, out).read(top);
+  return out;
+}
+
+}  // namespace sage::cli

@@ -1,0 +1,32 @@
+#pragma once
+// Problem files for `sage solve` (schema in README.md, "Solving boundary
+// value problems"): a domain (inline JSON CSG model or the path of any
+// model sage reads), the data of -div(k grad u) = f as formulas, boundary
+// conditions on named parts, and an optional exact solution.
+
+#include <sage/geometry/model.hpp>
+#include <sage/solver/problem.hpp>
+
+#include <stdexcept>
+#include <string>
+
+namespace sage::cli {
+
+/// Bad problem file: the message names the file, the JSON pointer (or
+/// line:column for malformed JSON) and what is wrong.
+class ProblemError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ProblemFile {
+  solver::PoissonProblem problem;
+  geometry::Model model;
+  std::string exact_formula;  // empty when none
+};
+
+/// Reads a problem file. Throws ProblemError (and geometry::ModelError for
+/// a domain model that cannot be read).
+ProblemFile read_problem_file(const std::string& path);
+
+}  // namespace sage::cli

@@ -1,0 +1,116 @@
+#pragma once
+// The meshfree Poisson solver (problem.hpp for the equations):
+//
+//     u = omega_D sum_i c_i B_i^web + g~
+//
+// omega_D vanishes on the Dirichlet parts (the domain field itself when the
+// whole boundary is Dirichlet, else the R0-conjunction of the oriented
+// selectors of the Dirichlet parts), g~ extends the Dirichlet data
+// (transfinite interpolation when it is given piece by piece), B^web is the
+// spline space of web_basis.hpp. Neumann and Robin conditions enter weakly
+// through the surface rule of domain_quadrature.hpp. Galerkin:
+//
+//     sum_j c_j [ (k grad v_j, grad v_i) + <beta v_j, v_i>_R ]
+//         = (f, v_i) - (k grad g~, grad v_i) + <h - beta g~, v_i>_{N,R}
+//
+// with v_i = omega_D B_i^web, assembled cell by cell on all cores and solved
+// with conjugate gradients (LinearSolverKind) or a sparse LDLT.
+//
+// Pure Neumann problems (no Dirichlet part, no Robin part) are refused: u is
+// then determined only up to a constant and this solver does not add the
+// constraint.
+
+#include <sage/evaluator.hpp>
+#include <sage/solver/domain_quadrature.hpp>
+#include <sage/solver/problem.hpp>
+#include <sage/solver/web_basis.hpp>
+
+#include <Eigen/Core>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sage::solver {
+
+/// Direct: sparse LDLT (AMD ordering). ConjugateGradient: preconditioned
+/// with incomplete Cholesky; JacobiConjugateGradient: with the diagonal
+/// (cheaper to set up, more iterations). Automatic: conjugate gradients
+/// with incomplete Cholesky in 2D, Jacobi in 3D, whose wider stencils
+/// make the incomplete factorization expensive.
+enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient };
+
+struct SolverOptions {
+  int degree = 3;            // 1 .. kMaxDegree
+  double cell_width = 0.05;  // h of the background grid
+  BasisKind basis = BasisKind::Web;
+  LinearSolverKind linear_solver = LinearSolverKind::Automatic;
+  bool estimate_condition = true;
+  int quadrature_points = 0;     // per direction; 0: degree + 2
+  int max_subdivision = 4;       // cut-cell subdivisions (domain_quadrature.hpp)
+  double cg_tolerance = 1e-12;   // relative residual
+  bool keep_quadrature = false;  // fill PoissonSolution::quadrature (to show users the rule)
+};
+
+/// The quadrature points used, for display: 3 coordinates per point (z = 0
+/// in 2D), the weight, and 1 for surface points, 0 for volume points.
+struct QuadratureDump {
+  std::vector<double> coordinates, weights, on_surface;
+};
+
+struct StageSeconds {
+  double field = 0, classification = 0, quadrature = 0, assembly = 0, solve = 0, condition = 0, errors = 0;
+  double total() const { return field + classification + quadrature + assembly + solve + condition + errors; }
+};
+
+struct SolveReport {
+  std::size_t cells = 0, cells_inside = 0, cells_cut = 0;
+  std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
+  std::size_t volume_points = 0, surface_points = 0;
+  std::string linear_solver;
+  int iterations = 0;                                                  // 1 for a direct solve
+  double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
+  double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
+  StageSeconds seconds;                                                // wall clock
+  StageSeconds cpu_seconds;                                            // process CPU time (all threads)
+  /// Relative errors when the problem has an exact solution: L2 and the H1
+  /// seminorm (|u - u_h|_1 / |u|_1).
+  std::optional<double> l2_error, h1_error;
+};
+
+template <int D>
+class PoissonSolution {
+ public:
+  SolveReport report;
+  SplineBasis<D> basis;
+  Eigen::VectorXd spline_coefficients;    // of the relevant B-splines (E c)
+  std::shared_ptr<const Tape> structure;  // roots: omega_D, g~
+  std::shared_ptr<const Tape> domain;     // omega
+  QuadratureDump quadrature;              // when SolverOptions::keep_quadrature
+
+  /// Evaluates u (and grad u) at points; one per thread.
+  class Probe {
+   public:
+    explicit Probe(const PoissonSolution& solution);
+    /// u at x; writes grad u to `gradient` when not null.
+    double at(const double* x, double* gradient = nullptr);
+    double omega(const double* x);
+
+   private:
+    const PoissonSolution* solution_;
+    Evaluator<Tuple<D, 1>> structure_;
+    Evaluator<double> domain_;
+  };
+};
+
+/// Solves the problem. Throws std::invalid_argument for a problem that
+/// cannot be posed (pure Neumann, Dirichlet default with weak parts) and
+/// std::runtime_error when the grid cannot carry it (empty domain, too
+/// coarse) or the solve fails.
+template <int D>
+PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOptions& options);
+
+}  // namespace sage::solver

@@ -1,0 +1,56 @@
+#pragma once
+// A Poisson problem on an implicit domain, all data as expressions of
+// x, y (, z):
+//
+//     -div(k grad u) = f              in the domain {omega >= 0}
+//     u = g                           on Dirichlet parts
+//     k du/dn = h                     on Neumann parts
+//     k du/dn + beta u = h            on Robin parts   (n the outward normal)
+//
+// Boundary parts are told apart by selectors: a field that vanishes on its
+// part (the field of the CSG primitive that contributes it, say). A
+// boundary point belongs to the part whose selector is nearest zero there,
+// or to `rest` when no selector vanishes. Selectors may have either sign
+// inside the domain; the solver orients them.
+
+#include <sage/expression.hpp>
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sage::solver {
+
+enum class BoundaryKind { Dirichlet, Neumann, Robin };
+
+struct BoundaryPart {
+  std::string name;
+  Expr selector;  // zero on this part (unused for the rest of the boundary)
+  BoundaryKind kind = BoundaryKind::Dirichlet;
+  Expr value = 0.0;  // Dirichlet data g
+  Expr beta = 0.0;   // Robin coefficient (0 for Neumann)
+  Expr flux = 0.0;   // h
+};
+
+struct PoissonProblem {
+  int dimension = 2;
+  Expr domain;                         // omega >= 0 inside
+  std::array<double, 3> min{}, max{};  // a box holding the domain
+  Expr conductivity = 1.0;             // k > 0
+  Expr source = 0.0;                   // f
+  std::vector<BoundaryPart> parts;
+  BoundaryPart rest;          // the boundary no part claims
+  std::optional<Expr> exact;  // exact solution, for error norms
+  /// Overrides the Dirichlet extension g~ built from the parts' data (for
+  /// tests and callers that have a better extension of the boundary data).
+  std::optional<Expr> dirichlet_extension;
+};
+
+/// Rvachev's transfinite interpolation of data g_k given on pieces where
+/// the fields omega_k vanish:  sum_k g_k prod_{l != k} omega_l^2 / sum_m
+/// prod_{l != m} omega_l^2. Equals g_k on piece k (away from the points
+/// where two pieces meet), smooth elsewhere.
+Expr transfinite_interpolation(const std::vector<Expr>& fields, const std::vector<Expr>& data);
+
+}  // namespace sage::solver

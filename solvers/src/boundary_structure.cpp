@@ -1,0 +1,75 @@
+#include <sage/evaluator.hpp>
+#include <sage/solver/boundary_structure.hpp>
+#include <sage/tape.hpp>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace sage::solver {
+
+namespace {
+
+bool same_expression(const Expr& a, const Expr& b) {
+  if (a.id() == b.id()) return true;
+  return a.is_constant() && b.is_constant() && a.constant_value() == b.constant_value();
+}
+
+bool is_weak(const BoundaryPart& part) { return part.kind != BoundaryKind::Dirichlet; }
+
+}  // namespace
+
+BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior) {
+  BoundaryStructure s;
+  for (const BoundaryPart& part : problem.parts) {
+    Tape tape(part.selector, problem.dimension);
+    Evaluator<double> eval(tape);
+    const double sign = eval.at(interior);
+    if (!(sign != 0.0) || !std::isfinite(sign))
+      throw std::invalid_argument("boundary part '" + part.name +
+                                  "': its field vanishes inside the domain, so it cannot name a part of the boundary");
+    s.selectors.push_back(sign > 0 ? part.selector : -part.selector);
+    s.has_weak_parts = s.has_weak_parts || is_weak(part);
+  }
+  const bool rest_weak = is_weak(problem.rest);
+  s.has_weak_parts = s.has_weak_parts || rest_weak;
+
+  std::vector<Expr> dirichlet_fields, dirichlet_values;
+  for (std::size_t k = 0; k < problem.parts.size(); ++k) {
+    if (is_weak(problem.parts[k])) continue;
+    dirichlet_fields.push_back(s.selectors[k]);
+    dirichlet_values.push_back(problem.parts[k].value);
+  }
+  bool has_robin = problem.rest.kind == BoundaryKind::Robin;
+  for (const BoundaryPart& part : problem.parts) has_robin = has_robin || part.kind == BoundaryKind::Robin;
+
+  if (!rest_weak) {
+    if (s.has_weak_parts)
+      throw std::invalid_argument(
+          "with Neumann or Robin parts the default boundary condition must not be Dirichlet: name the Dirichlet "
+          "parts and give the default the weak condition");
+    s.dirichlet_weight = problem.domain;
+    bool uniform = true;
+    for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, problem.rest.value);
+    // Data given piece by piece: interpolate between the named pieces.
+    s.dirichlet_extension = uniform || dirichlet_values.empty()
+                                ? problem.rest.value
+                                : transfinite_interpolation(dirichlet_fields, dirichlet_values);
+  } else if (dirichlet_fields.empty()) {
+    if (!has_robin)
+      throw std::invalid_argument(
+          "pure Neumann problem: the solution is fixed only up to a constant, which this solver does not add; give "
+          "one part a Dirichlet or Robin condition");
+    s.dirichlet_weight = 1.0;
+    s.dirichlet_extension = 0.0;
+  } else {
+    Expr weight = dirichlet_fields[0];
+    for (std::size_t k = 1; k < dirichlet_fields.size(); ++k)
+      weight = r_and(weight, dirichlet_fields[k], RSystem::r0());
+    s.dirichlet_weight = weight;
+    s.dirichlet_extension = transfinite_interpolation(dirichlet_fields, dirichlet_values);
+  }
+  if (problem.dirichlet_extension) s.dirichlet_extension = *problem.dirichlet_extension;
+  return s;
+}
+
+}  // namespace sage::solver

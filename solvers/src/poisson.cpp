@@ -1,0 +1,456 @@
+#include <sage/solver/boundary_structure.hpp>
+#include <sage/solver/condition.hpp>
+#include <sage/solver/local_splines.hpp>
+#include <sage/solver/poisson.hpp>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <stdexcept>
+
+namespace sage::solver {
+
+namespace {
+
+/// Wall-clock and process CPU seconds per stage (CPU time is what a
+/// one-thread benchmark on a shared machine can compare).
+class StageTimer {
+ public:
+  explicit StageTimer(SolveReport& report) : report_(report) {}
+  void lap(double StageSeconds::*stage) {
+    const auto now = std::chrono::steady_clock::now();
+    const std::clock_t cpu_now = std::clock();
+    report_.seconds.*stage = std::chrono::duration<double>(now - start_).count();
+    report_.cpu_seconds.*stage = static_cast<double>(cpu_now - cpu_start_) / CLOCKS_PER_SEC;
+    start_ = now;
+    cpu_start_ = cpu_now;
+  }
+
+ private:
+  SolveReport& report_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  std::clock_t cpu_start_ = std::clock();
+};
+
+template <int D>
+Box<D> cell_box(const BackgroundGrid<D>& grid, std::size_t linear) {
+  const auto c = grid.cell_index(linear);
+  Box<D> box{};
+  for (int a = 0; a < D; ++a) {
+    box.lo[a] = grid.lo[a] + c[a] * grid.h;
+    box.hi[a] = grid.lo[a] + (c[a] + 1) * grid.h;
+  }
+  return box;
+}
+
+/// Everything the assembly of one cell reads, compiled once.
+struct AssemblyTapes {
+  Tape structure;     // omega_D, g~
+  Tape coefficients;  // k, f
+  Tape surface;       // selectors..., then beta, flux per named part, then beta, flux of the rest
+};
+
+/// Which boundary condition holds at a surface point: the part whose
+/// selector is nearest zero, or the rest.
+struct SurfaceData {
+  bool weak = false;
+  double beta = 0.0, flux = 0.0;
+};
+
+SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>& eval, double tolerance) {
+  const std::size_t parts = problem.parts.size();
+  std::size_t nearest = parts;
+  double distance = tolerance;
+  for (std::size_t k = 0; k < parts; ++k) {
+    const double d = std::abs(eval.result(k));
+    if (d <= distance) {
+      distance = d;
+      nearest = k;
+    }
+  }
+  const BoundaryPart& part = nearest < parts ? problem.parts[nearest] : problem.rest;
+  if (part.kind == BoundaryKind::Dirichlet) return {};
+  return {true, eval.result(parts + 2 * nearest), eval.result(parts + 2 * nearest + 1)};
+}
+
+template <int D>
+void check_options(const PoissonProblem& problem, const SolverOptions& options) {
+  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  if (options.degree < 1 || options.degree > kMaxDegree)
+    throw std::invalid_argument("degree must be 1.." + std::to_string(kMaxDegree) + ", not " +
+                                std::to_string(options.degree));
+  if (!(options.cell_width > 0.0) || !std::isfinite(options.cell_width))
+    throw std::invalid_argument("cell width h must be positive");
+  for (int a = 0; a < D; ++a)
+    if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
+}
+
+template <class Preconditioner>
+Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
+                                    const SolverOptions& options, SolveReport& report) {
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Preconditioner> cg;
+  cg.setTolerance(options.cg_tolerance);
+  cg.setMaxIterations(10 * system.rows() + 100);
+  cg.compute(system);
+  if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
+  Eigen::VectorXd x = cg.solve(right);
+  report.iterations = static_cast<int>(cg.iterations());
+  if (cg.info() != Eigen::Success)
+    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
+                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
+  return x;
+}
+
+}  // namespace
+
+template <int D>
+PoissonSolution<D>::Probe::Probe(const PoissonSolution& solution)
+    : solution_(&solution), structure_(*solution.structure), domain_(*solution.domain) {}
+
+template <int D>
+double PoissonSolution<D>::Probe::omega(const double* x) {
+  domain_.evaluate(x);
+  return domain_.result();
+}
+
+template <int D>
+double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
+  const auto& grid = solution_->basis.grid;
+  const auto cell = grid.cell_of(x);
+  LocalSplines<D> local;
+  local.evaluate(grid, cell, x);
+  double s = 0.0;
+  std::array<double, D> grad_s{};
+  for (int k = 0; k < grid.local_count(); ++k) {
+    const auto i = LocalSplines<D>::global_index(cell, grid.degree, k);
+    const long long r = solution_->basis.relevant_of[grid.spline_linear(i)];
+    if (r < 0) continue;
+    const double c = solution_->spline_coefficients[r];
+    s += c * local.value[k];
+    for (int a = 0; a < D; ++a) grad_s[a] += c * local.gradient[a][k];
+  }
+  structure_.evaluate(x);
+  const auto& w = structure_.result(0);
+  const auto& g = structure_.result(1);
+  if (gradient) {
+    const auto gw = w.gradient(), gg = g.gradient();
+    for (int a = 0; a < D; ++a) gradient[a] = gw[a] * s + w.value() * grad_s[a] + gg[a];
+  }
+  return w.value() * s + g.value();
+}
+
+template <int D>
+PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOptions& options) {
+  check_options<D>(problem, options);
+  PoissonSolution<D> solution;
+  SolveReport& report = solution.report;
+  StageTimer timer(report);
+  const int n = options.degree;
+
+  // Field: compile the domain for values, enclosures and gradients.
+  const DomainTapes domain_tapes(problem.domain, D);
+  timer.lap(&StageSeconds::field);
+
+  // Classification of the background cells by interval arithmetic.
+  std::array<double, D> min{}, max{};
+  for (int a = 0; a < D; ++a) {
+    min[a] = problem.min[a];
+    max[a] = problem.max[a];
+  }
+  const auto grid = BackgroundGrid<D>::covering(min, max, options.cell_width, n);
+  if (grid.spline_count() > 50'000'000ull)
+    throw std::invalid_argument("the grid is too fine: " + std::to_string(grid.spline_count()) + " B-splines");
+  // Gauss with n + 1 nodes in inside cells (exact for the polynomial part,
+  // degree 2n + 1). One more in cut cells, whose points carry the
+  // boundary's geometry and the weak boundary terms; except for 3D
+  // problems with Dirichlet conditions only, where cut cells already hold
+  // most of the points (the base is split at the faces' zero lines) and
+  // n + 1 keeps the rates (set once the boundary structure is known).
+  const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
+  QuadratureOptions quadrature{inside_points + 1, inside_points, options.max_subdivision};
+  const std::size_t cell_count = grid.cell_count();
+  std::vector<CellKind> kinds(cell_count);
+#pragma omp parallel
+  {
+    CellQuadrature<D> rule(domain_tapes, quadrature);
+#pragma omp for schedule(dynamic, 256)
+    for (std::size_t c = 0; c < cell_count; ++c) kinds[c] = rule.classify(cell_box(grid, c));
+  }
+  std::vector<std::size_t> candidates;
+  std::array<double, 3> interior{};
+  double best_omega = -1.0;
+  {
+    Evaluator<double> eval(domain_tapes.value);
+    for (std::size_t c = 0; c < cell_count; ++c) {
+      if (kinds[c] == CellKind::Outside) continue;
+      candidates.push_back(c);
+      if (kinds[c] != CellKind::Inside) continue;
+      ++report.cells_inside;
+      const Box<D> box = cell_box(grid, c);
+      std::array<double, 3> centre{};
+      for (int a = 0; a < D; ++a) centre[a] = 0.5 * (box.lo[a] + box.hi[a]);
+      const double w = eval.at(centre);
+      if (w > best_omega) {
+        best_omega = w;
+        interior = centre;
+      }
+    }
+  }
+  report.cells = cell_count;
+  report.cells_cut = candidates.size() - report.cells_inside;
+  if (candidates.empty()) throw std::runtime_error("the domain is empty: omega < 0 on every grid cell");
+  if (report.cells_inside == 0)
+    throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (use more cells)");
+  timer.lap(&StageSeconds::classification);
+
+  const BoundaryStructure structure = boundary_structure(problem, interior);
+  if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
+
+  // Quadrature: volume rules of inside and cut cells, surface rules where
+  // a weak condition may hold.
+  std::vector<std::vector<VolumePoint<D>>> volume(candidates.size());
+  std::vector<std::vector<SurfacePoint<D>>> surface(candidates.size());
+#pragma omp parallel
+  {
+    CellQuadrature<D> rule(domain_tapes, quadrature);
+#pragma omp for schedule(dynamic, 16)
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const std::size_t c = candidates[k];
+      rule.append_rule(cell_box(grid, c), kinds[c], volume[k], structure.has_weak_parts ? &surface[k] : nullptr);
+    }
+  }
+  std::vector<char> active(cell_count, 0), inside(cell_count, 0);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    // A cell touching the domain in a face or an edge only carries no
+    // weight: its B-splines must not become unknowns.
+    double weight = 0.0;
+    for (const auto& q : volume[k]) weight += q.weight;
+    active[candidates[k]] = weight > 1e-13 * std::pow(grid.h, D) ? 1 : 0;
+    if (!active[candidates[k]]) volume[k].clear();
+    inside[candidates[k]] = kinds[candidates[k]] == CellKind::Inside ? 1 : 0;
+    report.volume_points += volume[k].size();
+    report.surface_points += surface[k].size();
+  }
+  if (options.keep_quadrature) {
+    QuadratureDump& dump = solution.quadrature;
+    auto add = [&](const std::array<double, D>& x, double weight, double on_surface) {
+      for (int a = 0; a < 3; ++a) dump.coordinates.push_back(a < D ? x[a] : 0.0);
+      dump.weights.push_back(weight);
+      dump.on_surface.push_back(on_surface);
+    };
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      for (const auto& q : volume[k]) add(q.x, q.weight, 0.0);
+      for (const auto& q : surface[k]) add(q.x, q.weight, 1.0);
+    }
+  }
+  timer.lap(&StageSeconds::quadrature);
+
+  // Basis and assembly.
+  solution.basis = build_basis(grid, active, inside, options.basis);
+  const SplineBasis<D>& basis = solution.basis;
+  report.relevant_splines = basis.relevant.size();
+  report.inner_splines = basis.inner_count;
+  report.outer_splines = basis.outer_count;
+  report.unknowns = basis.unknowns();
+
+  std::vector<Expr> surface_roots = structure.selectors;
+  for (const BoundaryPart& part : problem.parts) {
+    surface_roots.push_back(part.beta);
+    surface_roots.push_back(part.flux);
+  }
+  surface_roots.push_back(problem.rest.beta);
+  surface_roots.push_back(problem.rest.flux);
+  auto structure_tape =
+      std::make_shared<Tape>(std::vector<Expr>{structure.dirichlet_weight, structure.dirichlet_extension}, D);
+  const AssemblyTapes tapes{*structure_tape, Tape(std::vector<Expr>{problem.conductivity, problem.source}, D),
+                            Tape(surface_roots, D)};
+  solution.structure = structure_tape;
+  solution.domain = std::make_shared<Tape>(problem.domain, D);
+
+  int stencil = 1;
+  for (int a = 0; a < D; ++a) stencil *= 2 * n + 1;
+  const std::size_t relevant = basis.relevant.size();
+  std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
+  std::vector<double> load(relevant, 0.0);
+  const int local_count = grid.local_count();
+  // Band position of the pair (j, l) of local splines: their offset
+  // difference, numbered in the (2n + 1)^D stencil.
+  std::vector<int> stencil_of_local(static_cast<std::size_t>(local_count));
+  int stencil_centre = 0;
+  for (int k = 0; k < local_count; ++k) {
+    const auto m = LocalSplines<D>::global_index({}, n, k);
+    int position = 0;
+    for (int a = D - 1; a >= 0; --a) position = position * (2 * n + 1) + m[a];
+    stencil_of_local[static_cast<std::size_t>(k)] = position;
+  }
+  for (int a = D - 1; a >= 0; --a) stencil_centre = stencil_centre * (2 * n + 1) + n;
+  const double selector_tolerance = 1e-6 * grid.h;
+
+#pragma omp parallel
+  {
+    Evaluator<Tuple<D, 1>> structure_eval(tapes.structure);
+    Evaluator<double> coefficient_eval(tapes.coefficients);
+    Evaluator<double> surface_eval(tapes.surface);
+    LocalSplines<D> local;
+    Eigen::MatrixXd gradients, stiffness(local_count, local_count);
+    Eigen::VectorXd rhs(local_count);
+    std::vector<long long> rows(static_cast<std::size_t>(local_count));
+    // Each thread adds into its own band (no atomics); summed below.
+    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0);
+#pragma omp for schedule(dynamic, 8) nowait
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const auto& points = volume[k];
+      if (points.empty()) continue;
+      const auto cell = grid.cell_index(candidates[k]);
+      gradients.resize(local_count, static_cast<Eigen::Index>(points.size() * D));
+      rhs.setZero();
+      for (std::size_t p = 0; p < points.size(); ++p) {
+        const auto& q = points[p];
+        structure_eval.evaluate(q.x.data());
+        coefficient_eval.evaluate(q.x.data());
+        const auto& w = structure_eval.result(0);
+        const auto& g = structure_eval.result(1);
+        const auto gw = w.gradient(), gg = g.gradient();
+        const double conductivity = coefficient_eval.result(0), source = coefficient_eval.result(1);
+        local.evaluate(grid, cell, q.x.data());
+        const double scale = std::sqrt(std::max(conductivity, 0.0) * q.weight);
+        // Column a of point p: scale * d v_j / dx_a for every j, with
+        // grad v_j = B_j grad w + w grad B_j (contiguous, vectorizable).
+        const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
+        rhs += (q.weight * source * w.value()) * values;
+        for (int a = 0; a < D; ++a) {
+          const Eigen::Map<const Eigen::VectorXd> slopes(local.gradient[a].data(), local_count);
+          auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
+          column = gw[a] * values + w.value() * slopes;
+          rhs -= (q.weight * conductivity * gg[a]) * column;
+          column *= scale;
+        }
+      }
+      stiffness.setZero();
+      stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients);
+      for (const auto& s : surface[k]) {
+        surface_eval.evaluate(s.x.data());
+        const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance);
+        if (!data.weak) continue;
+        structure_eval.evaluate(s.x.data());
+        const double w = structure_eval.result(0).value(), g = structure_eval.result(1).value();
+        local.evaluate(grid, cell, s.x.data());
+        for (int j = 0; j < local_count; ++j) {
+          const double vj = w * local.value[j];
+          rhs[j] += s.weight * (data.flux - data.beta * g) * vj;
+          if (data.beta == 0.0) continue;
+          for (int l = 0; l <= j; ++l) stiffness(j, l) += s.weight * data.beta * vj * w * local.value[l];
+        }
+      }
+      for (int j = 0; j < local_count; ++j)
+        rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
+      for (int j = 0; j < local_count; ++j) {
+        own_load[static_cast<std::size_t>(rows[j])] += rhs[j];
+        double* row = own_band.data() + static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
+                      stencil_centre - stencil_of_local[j];
+        for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += j >= l ? stiffness(j, l) : stiffness(l, j);
+      }
+    }
+#pragma omp critical
+    {
+      for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
+      for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
+    }
+  }
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::size_t r = 0; r < relevant; ++r) {
+    const auto i = grid.spline_index(basis.relevant[r]);
+    for (int offset = 0; offset < stencil; ++offset) {
+      const double value = band[r * static_cast<std::size_t>(stencil) + static_cast<std::size_t>(offset)];
+      if (value == 0.0) continue;
+      auto j = i;
+      int rest = offset;
+      for (int a = 0; a < D; ++a) {
+        j[a] += rest % (2 * n + 1) - n;
+        rest /= 2 * n + 1;
+      }
+      entries.emplace_back(static_cast<Eigen::Index>(r), basis.relevant_of[grid.spline_linear(j)], value);
+    }
+  }
+  band = std::vector<double>();
+  Eigen::SparseMatrix<double> spline_matrix(static_cast<Eigen::Index>(relevant), static_cast<Eigen::Index>(relevant));
+  spline_matrix.setFromTriplets(entries.begin(), entries.end());
+  entries = {};
+  const Eigen::SparseMatrix<double> E = basis.extension;
+  const Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
+  const Eigen::VectorXd right =
+      E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
+  report.nonzeros = static_cast<std::size_t>(system.nonZeros());
+  timer.lap(&StageSeconds::assembly);
+
+  // Solve.
+  LinearSolverKind kind = options.linear_solver;
+  if (kind == LinearSolverKind::Automatic)
+    kind = D == 2 ? LinearSolverKind::ConjugateGradient : LinearSolverKind::JacobiConjugateGradient;
+  Eigen::VectorXd coefficients;
+  if (kind == LinearSolverKind::Direct) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
+    if (factor.info() != Eigen::Success)
+      throw std::runtime_error(
+          "the sparse factorization failed: the system is singular (is the basis stable? try --basis web)");
+    coefficients = factor.solve(right);
+    report.linear_solver = "sparse LDLT (AMD ordering)";
+    report.iterations = 1;
+  } else if (kind == LinearSolverKind::ConjugateGradient) {
+    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, options, report);
+    report.linear_solver = "conjugate gradients, incomplete Cholesky";
+  } else {
+    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, options, report);
+    report.linear_solver = "conjugate gradients, Jacobi";
+  }
+  if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
+  solution.spline_coefficients = E * coefficients;
+  timer.lap(&StageSeconds::solve);
+
+  if (options.estimate_condition) {
+    const ConditionEstimate estimate = estimate_condition(system);
+    report.condition = estimate.condition;
+    report.scaled_condition = estimate.scaled_condition;
+    timer.lap(&StageSeconds::condition);
+  }
+
+  if (problem.exact) {
+    const Tape exact_tape(*problem.exact, D);
+    double error2 = 0, norm2 = 0, grad_error2 = 0, grad_norm2 = 0;
+#pragma omp parallel reduction(+ : error2, norm2, grad_error2, grad_norm2)
+    {
+      typename PoissonSolution<D>::Probe probe(solution);
+      Evaluator<Tuple<D, 1>> exact(exact_tape);
+#pragma omp for schedule(dynamic, 16)
+      for (std::size_t k = 0; k < candidates.size(); ++k) {
+        for (const auto& q : volume[k]) {
+          double grad[D];
+          const double u = probe.at(q.x.data(), grad);
+          exact.evaluate(q.x.data());
+          const auto& e = exact.result();
+          const auto ge = e.gradient();
+          error2 += q.weight * (u - e.value()) * (u - e.value());
+          norm2 += q.weight * e.value() * e.value();
+          for (int a = 0; a < D; ++a) {
+            grad_error2 += q.weight * (grad[a] - ge[a]) * (grad[a] - ge[a]);
+            grad_norm2 += q.weight * ge[a] * ge[a];
+          }
+        }
+      }
+    }
+    report.l2_error = std::sqrt(error2 / norm2);
+    report.h1_error = std::sqrt(grad_error2 / grad_norm2);
+    timer.lap(&StageSeconds::errors);
+  }
+  return solution;
+}
+
+template class PoissonSolution<2>;
+template class PoissonSolution<3>;
+template PoissonSolution<2> solve_poisson<2>(const PoissonProblem&, const SolverOptions&);
+template PoissonSolution<3> solve_poisson<3>(const PoissonProblem&, const SolverOptions&);
+
+}  // namespace sage::solver

@@ -1,0 +1,154 @@
+// `sage solve` end to end: a problem file with an exact solution gives a
+// .vtu with u, grad_u, omega, u_exact and error whose values agree with the
+// exact solution; named boundary parts, weak conditions and every kind of
+// bad input (naming the file and place, exit 1; usage errors exit 2).
+
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include "cli_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace {
+
+using namespace sage_cli_test;
+
+std::string problems(const std::string& name) { return std::string(SAGE_SOURCE_DIR) + "/examples/problems/" + name; }
+
+/// A disk problem whose boundary block is `boundary` (a JSON object).
+std::string disk_problem(const std::string& name, const std::string& boundary, const std::string& extra = "") {
+  return write_file(name, R"({
+  "domain": { "dimension": 2, "bounds": { "min": [-1, -1], "max": [1, 1] },
+              "field": { "op": "difference", "args": [
+                { "name": "rim", "primitive": "disk", "center": [0, 0], "radius": 1 },
+                { "name": "hole", "primitive": "disk", "center": [0.2, 0], "radius": 0.3 } ] } },
+  "source": 1,
+  "boundary": )" + boundary + extra +
+                              "\n}");
+}
+
+TEST(CliSolve, DiskExampleReachesItsExactSolution) {
+  const fs::path out = scratch("solve_disk.vtu");
+  const Result r = run("solve " + problems("disk.json") + " -o " + out.string() + " --degree 3 --cells 16");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("relative errors: L2"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("condition estimate"), std::string::npos) << r.output;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  ASSERT_GT(g->GetNumberOfPoints(), 0);
+  vtkDataArray* u = g->GetPointData()->GetArray("u");
+  vtkDataArray* grad = g->GetPointData()->GetArray("grad_u");
+  vtkDataArray* omega = g->GetPointData()->GetArray("omega");
+  vtkDataArray* exact = g->GetPointData()->GetArray("u_exact");
+  vtkDataArray* error = g->GetPointData()->GetArray("error");
+  ASSERT_TRUE(u && grad && omega && exact && error);
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i) {
+    double p[3];
+    g->GetPoint(i, p);
+    const double r2 = p[0] * p[0] + p[1] * p[1];
+    if (r2 > 1.0) continue;  // cells cover the disk; their outer corners lie outside it
+    EXPECT_NEAR(exact->GetTuple1(i), std::sin(M_PI * r2), 1e-12);
+    EXPECT_NEAR(error->GetTuple1(i), u->GetTuple1(i) - exact->GetTuple1(i), 1e-15);
+    worst = std::max(worst, std::abs(error->GetTuple1(i)));
+    // grad u = 2 pi cos(pi r^2) (x, y)
+    EXPECT_NEAR(grad->GetComponent(i, 0), 2 * M_PI * std::cos(M_PI * r2) * p[0], 0.05);
+  }
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_GT(worst, 0.0);  // a real approximation, not the data copied
+}
+
+TEST(CliSolve, NamedPartsWithWeakConditions) {
+  const std::string problem = disk_problem(
+      "solve_parts.json",
+      R"({ "rim": { "type": "dirichlet", "value": 0 }, "default": { "type": "robin", "beta": 2, "flux": "x" } })");
+  const fs::path out = scratch("solve_parts.vtu"), points = scratch("solve_parts_points.vtu");
+  const Result r =
+      run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 16 --quadrature-points " + points.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("surface"), std::string::npos) << r.output;
+  EXPECT_GT(fs::file_size(points), 0u);
+}
+
+TEST(CliSolve, PlateExampleRuns) {
+  const Result r = run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() +
+                       " --degree 2 --cells 24 --no-condition");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+TEST(CliSolve, BallWithRobinIn3D) {
+  const fs::path out = scratch("ball.vtu");
+  const Result r = run("solve " + problems("ball_robin.json") + " -o " + out.string() + " --degree 2 --cells 8");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("3D Poisson"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("condition estimate"), std::string::npos) << r.output;  // off in 3D by default
+  const auto l2 = r.output.find("L2 ");
+  ASSERT_NE(l2, std::string::npos) << r.output;
+  EXPECT_LT(std::stod(r.output.substr(l2 + 3)), 1e-4) << r.output;  // u is in the spline space
+  EXPECT_GT(fs::file_size(out), 0u);
+}
+
+TEST(CliSolve, BadInputNamesFileAndPlace) {
+  struct Case {
+    std::string boundary, extra, expected;
+  };
+  const Case cases[] = {
+      {R"({ "lid": { "type": "dirichlet" } })", "", "unknown boundary part 'lid'"},
+      {R"({ "rim": { "type": "dirichlet" }, "hole": { "type": "neumann" } })", "",
+       "the default boundary condition must not be Dirichlet"},
+      {R"({ "default": { "type": "neumann" } })", "", "pure Neumann"},
+      {R"({ "rim": { "type": "wall" } })", "", "/boundary/rim/type"},
+      {R"({ "rim": { "type": "robin" } })", "", "needs \"beta\""},
+      {R"({ "rim": { "type": "dirichlet", "value": "x +* 2" } })", "", "/boundary/rim/value"},
+      {R"({ "rim": { "type": "dirichlet", "colour": 1 } })", "", "unknown key"},
+      {R"({})", R"(, "exact": "sqrt(")", "/exact"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    const std::string problem = disk_problem("bad_" + std::to_string(k++) + ".json", c.boundary, c.extra);
+    const Result r = run("solve " + problem + " -o " + scratch("bad.vtu").string() + " --cells 8");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(problem), std::string::npos) << r.output;
+  }
+  const std::string malformed = write_file("bad_json.json", "{\n  \"domain\": \n}");
+  const Result r = run("solve " + malformed + " -o " + scratch("bad.vtu").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("line 3"), std::string::npos) << r.output;
+}
+
+TEST(CliSolve, EmptyDomainAndTooCoarseGrid) {
+  const std::string empty = write_file("empty.json", R"({
+  "domain": { "dimension": 2, "bounds": { "min": [-1, -1], "max": [1, 1] },
+              "field": { "formula": "-1 - x^2" } } })");
+  Result r = run("solve " + empty + " -o " + scratch("bad.vtu").string() + " --cells 8");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
+  const std::string tiny = write_file("tiny.json", R"({
+  "domain": { "dimension": 2, "bounds": { "min": [-1, -1], "max": [1, 1] },
+              "field": { "primitive": "disk", "center": [0.1, 0.1], "radius": 0.05 } } })");
+  r = run("solve " + tiny + " -o " + scratch("bad.vtu").string() + " --cells 4");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("too coarse"), std::string::npos) << r.output;
+}
+
+TEST(CliSolve, UsageErrorsExitTwo) {
+  const std::string p = problems("disk.json");
+  EXPECT_EQ(run("solve " + p + " -o out.vti").exit_code, 2);
+  EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --cells 8 --h 0.1").exit_code, 2);
+  EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --degree 9").exit_code, 2);
+  EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --basis spline").exit_code, 2);
+  EXPECT_EQ(run("solve " + p).exit_code, 2);
+  EXPECT_EQ(run("solve --help").exit_code, 0);
+}
+
+}  // namespace
