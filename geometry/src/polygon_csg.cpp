@@ -43,6 +43,7 @@ class RingFormula {
 
  private:
   std::size_t next(std::size_t i) const { return (i + 1) % n_; }
+  std::size_t previous(std::size_t i) const { return (i + n_ - 1) % n_; }
   std::size_t forward(std::size_t from, std::size_t to) const { return (to + n_ - from) % n_; }
 
   // The terms for the part of the ring from hull vertex `from` to `to`: an
@@ -57,8 +58,16 @@ class RingFormula {
       return;
     }
     terms.push_back(chain(from, to, !parent_hull_on_left, depth));
+    // A bridge on the line of the pocket's first or last edge is left out:
+    // that edge's halfplane is the same function, and two leaves vanishing
+    // along one edge would spoil the normalization there (a comb's teeth).
+    if (collinear(from, to, next(from)) || collinear(from, to, previous(to))) return;
     terms.push_back(edge_halfplane(ring_.points[from], ring_.points[to]));
     ++bridges_;
+  }
+
+  bool collinear(std::size_t a, std::size_t b, std::size_t c) const {
+    return CGAL::collinear(points_[a], points_[b], points_[c]);
   }
 
   // The chain from `first` to `last` (its end points are extreme on its

@@ -34,7 +34,7 @@ bool TapeSpecializer::worthwhile(const Tape& tape) {
   std::size_t prunable = 0;
   for (const Instruction& ins : tape.code())
     prunable += is_min(ins) || is_max(ins) || ins.op == Op::Step || ins.op == Op::Classify;
-  return prunable > 0 && 20 * prunable >= tape.code().size();
+  return prunable > 0 && 64 * prunable >= tape.code().size();
 }
 
 std::optional<Tape> TapeSpecializer::specialize(const Interval* box) {

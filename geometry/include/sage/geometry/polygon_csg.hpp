@@ -23,7 +23,11 @@
 // plane. Its zeros stay on the ring: off the ring, the points on both
 // sides of a bridge's line have the same membership, so the result does
 // not depend on that halfplane there, and an R-function vanishes only
-// where its result depends on a vanishing argument.
+// where its result depends on a vanishing argument. One exception: a
+// bridge on the line of its pocket's first or last edge (a comb's teeth
+// tops) is left out, since two leaves vanishing along one edge would spoil
+// the normalization there; that case rests on the sign tests, not on the
+// argument above.
 // Holes enter as AND NOT, polygons are united.
 //
 // Rings must be validated (polygon_validation.hpp): simple, outer rings
