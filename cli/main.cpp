@@ -2,6 +2,7 @@
 //
 //   sage field MODEL -o OUT.vtu   sample a model's field on a grid
 //   sage info MODEL               summarize a model
+//   sage render MODEL -o OUT.png  picture of a model
 //   sage demo [-o DIR]            write fields of the bundled models
 
 #include "commands.hpp"
@@ -31,6 +32,7 @@ const char* kUsage =
     "Commands:\n"
     "  field MODEL -o OUT.vtu   sample a model's field and derivatives on a grid\n"
     "  info MODEL               summarize a model\n"
+    "  render MODEL -o OUT.png  picture of a model (3D: ray cast, 2D: colour map)\n"
     "  demo [-o DIR]            write fields of the bundled example models\n"
     "\n"
     "Options:\n"
@@ -40,6 +42,7 @@ const char* kUsage =
 int dispatch(const std::string& command, const std::vector<std::string>& rest) {
   if (command == "field") return sage::cli::run_field(rest);
   if (command == "info") return sage::cli::run_info(rest);
+  if (command == "render") return sage::cli::run_render(rest);
   if (command == "demo") return sage::cli::run_demo(rest);
   std::cerr << "sage: unknown command '" << command << "'\n(see sage --help)\n";
   return 2;
