@@ -15,6 +15,7 @@ struct UsageError {
 
 int run_field(const std::vector<std::string>& args);
 int run_info(const std::vector<std::string>& args);
+int run_render(const std::vector<std::string>& args);
 int run_demo(const std::vector<std::string>& args);
 int run_solve(const std::vector<std::string>& args);
 

@@ -2,6 +2,7 @@
 //
 //   sage field MODEL -o OUT.vtu   sample a model's field on a grid
 //   sage info MODEL               summarize a model
+//   sage render MODEL -o OUT.png  picture of a model
 //   sage demo [-o DIR]            write fields of the bundled models
 //   sage solve PROBLEM -o OUT.vtu solve a boundary value problem
 
@@ -32,6 +33,7 @@ const char* kUsage =
     "Commands:\n"
     "  field MODEL -o OUT.vtu   sample a model's field and derivatives on a grid\n"
     "  info MODEL               summarize a model\n"
+    "  render MODEL -o OUT.png  picture of a model (3D: ray cast, 2D: colour map)\n"
     "  demo [-o DIR]            write fields of the bundled example models\n"
     "  solve PROBLEM -o OUT.vtu solve a Poisson problem on a model's domain\n"
     "\n"
@@ -42,6 +44,7 @@ const char* kUsage =
 int dispatch(const std::string& command, const std::vector<std::string>& rest) {
   if (command == "field") return sage::cli::run_field(rest);
   if (command == "info") return sage::cli::run_info(rest);
+  if (command == "render") return sage::cli::run_render(rest);
   if (command == "demo") return sage::cli::run_demo(rest);
   if (command == "solve") return sage::cli::run_solve(rest);
   std::cerr << "sage: unknown command '" << command << "'\n(see sage --help)\n";

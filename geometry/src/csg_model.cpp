@@ -1,3 +1,5 @@
+#include <sage/blend.hpp>
+#include <sage/bounded.hpp>
 #include <sage/formula.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/normalize.hpp>
@@ -89,8 +91,9 @@ class Reader {
   }
   Vec3 vector_at(const Json& j, const char* key, const std::string& at, int n) const {
     if (!j.contains(key)) fail(at, std::string("missing parameter \"") + key + "\"");
-    const Json& v = j[key];
-    const std::string here = at + "/" + key;
+    return point(j[key], at + "/" + key, n);
+  }
+  Vec3 point(const Json& v, const std::string& here, int n) const {
     if (!v.is_array() || static_cast<int>(v.size()) != n)
       fail(here, "expected an array of " + std::to_string(n) + " numbers");
     Vec3 r{0, 0, 0};
@@ -246,6 +249,8 @@ class Reader {
   Expr operation(const Json& j, const std::string& at) {
     const std::string op = string_at(j, "op", at);
     if (op == "trim") return trim(j, at);
+    if (op.rfind("bounded", 0) == 0 || op == "iso_surface") return bounded(j, at, op);
+    if (j.contains("blend")) return blended(j, at, op);
     allow_keys(j, at, {"op", "args", "rfunction", "name"});
     const RSystem s = node_rsystem(j, at);
     if (op == "union") return r_disjunction_n(arguments(j, at, 1, SIZE_MAX), s);
@@ -258,8 +263,74 @@ class Reader {
     }
     if (op == "complement") return -arguments(j, at, 1, 1)[0];
     if (op == "normalize") return normalize(arguments(j, at, 1, 1)[0], model_.dimension);
-    fail(at + "/op",
-         "unknown operator \"" + op + "\" (known: union, intersection, difference, complement, normalize, trim)");
+    fail(at + "/op", "unknown operator \"" + op +
+                         "\" (known: union, intersection, difference, complement, normalize, trim, bounded, "
+                         "bounded_union, bounded_intersection, bounded_difference, iso_surface)");
+  }
+
+  // Soft blending (paper 000): "blend": {"function": 1..6, "amount": n};
+  // n-ary operators fold from the left.
+  Expr blended(const Json& j, const std::string& at, const std::string& op) {
+    allow_keys(j, at, {"op", "args", "blend", "name"});
+    const Json& b = j["blend"];
+    const std::string here = at + "/blend";
+    if (!b.is_object()) fail(here, "expected {\"function\": 1..6, \"amount\": n}");
+    allow_keys(b, here, {"function", "amount"});
+    BlendFunction fb{};
+    try {
+      const double number = number_at(b, "function", here);
+      if (number != std::floor(number)) fail(here + "/function", "must be an integer 1 to 6");
+      fb = blend_function_from_number(static_cast<int>(number));
+    } catch (const std::invalid_argument& e) {
+      fail(here + "/function", e.what());
+    }
+    const double n = number_at(b, "amount", here);
+    if (n < 0) fail(here + "/amount", "must be >= 0");
+    Expr (*combine)(const Expr&, const Expr&, BlendFunction, double) = nullptr;
+    if (op == "union") combine = blend_union;
+    if (op == "intersection") combine = blend_intersection;
+    if (op == "difference") combine = blend_difference;
+    if (!combine) fail(here, "only union, intersection and difference can blend");
+    const std::vector<Expr> args = arguments(j, at, 2, SIZE_MAX);
+    Expr e = args[0];
+    for (std::size_t i = 1; i < args.size(); ++i) e = combine(e, args[i], fb, n);
+    return e;
+  }
+
+  // Bounded potentials and their composition (paper 001).
+  Expr bounded(const Json& j, const std::string& at, const std::string& op) {
+    try {
+      if (op == "bounded") {
+        allow_keys(j, at, {"op", "args", "width", "name"});
+        return bounded_potential(arguments(j, at, 1, 1)[0], positive_at(j, "width", at));
+      }
+      if (op == "iso_surface") {
+        allow_keys(j, at, {"op", "args", "iso", "name"});
+        return iso_field(arguments(j, at, 1, 1)[0], j.contains("iso") ? number_at(j, "iso", at) : 0.5);
+      }
+      allow_keys(j, at, {"op", "args", "theta1_degrees", "theta2_degrees", "iso", "profile_points", "name"});
+      BoundedOp kind = BoundedOp::Union;
+      if (op == "bounded_intersection")
+        kind = BoundedOp::Intersection;
+      else if (op == "bounded_difference")
+        kind = BoundedOp::Difference;
+      else if (op != "bounded_union")
+        fail(at + "/op", "unknown operator \"" + op + "\"");
+      BoundedTransition tr;
+      if (j.contains("theta1_degrees")) tr.theta1 = number_at(j, "theta1_degrees", at) * M_PI / 180;
+      if (j.contains("theta2_degrees")) tr.theta2 = number_at(j, "theta2_degrees", at) * M_PI / 180;
+      if (j.contains("iso")) tr.iso = number_at(j, "iso", at);
+      if (j.contains("profile_points")) {
+        const Json& pts = j["profile_points"];
+        if (!pts.is_array()) fail(at + "/profile_points", "expected an array of points");
+        for (std::size_t i = 0; i < pts.size(); ++i)
+          tr.profile_points.push_back(point(pts[i], at + "/profile_points/" + std::to_string(i), model_.dimension));
+      }
+      const std::vector<Expr> args = arguments(j, at, 2, 2);
+      return bounded_compose(kind, args[0], args[1], tr, model_.dimension);
+    } catch (const std::invalid_argument& e) {
+      fail(at, e.what());
+    }
   }
 
   Expr trim(const Json& j, const std::string& at) {

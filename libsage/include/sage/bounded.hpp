@@ -1,0 +1,66 @@
+#pragma once
+// Bounded ("soft object") primitives and their Boolean composition with a
+// smooth transition by arcs of ellipses (paper 001; FORMULAS.md, "Bounded
+// composition operators").
+//
+// A bounded potential lies in [0, 1], is 0 outside the primitive's
+// support, and its surface is the iso-value C (1/2 for bounded_potential).
+// An operator G(X, Y) combines potentials X = f1, Y = f2 >= 0 and returns
+// a potential again. Union, with theta the angle of (X, Y) from the X axis
+// and 0 < theta1 < 45 deg < theta2 < 90 deg:
+//
+//     theta <= theta1: G = X            theta >= theta2: G = Y
+//     otherwise G = c, the level whose quarter ellipse passes through
+//     (X, Y): centre (c cot theta2, c tan theta1), semi-axes
+//     c (1 - cot theta2) and c (1 - tan theta1).
+//
+// The level curves are homothetic, so c solves a quadratic
+// A c^2 - 2 B c + D = 0 in closed form, taking the root on the far arc
+// (union) or the near arc (intersection). At the zone borders the arc is
+// tangent to the straight iso-lines and G is homogeneous of degree 1, so the
+// gradient is continuous (G1): G = X where Y = 0, G = Y where X = 0 and
+// G(0, 0) = 0. Intersection mirrors it (G = Y below theta1, X above
+// theta2, the arc with centre (c cot theta1, c tan theta2)); difference is
+// intersection with 2C - f2.
+//
+// Profile: control points p_i shape the transition. Each gives P_i =
+// (f1(p_i), f2(p_i)) and the factor C / G(P_i); the arc value is multiplied
+// by m, a clamped cubic spline through (theta1, 1), those factors and
+// (theta2, 1) with zero slope at both ends, so G1 is kept and the level-C
+// surface passes through every p_i. m is a function of
+// u = Y / (X + Y) = tan(theta) / (1 + tan(theta)), a monotone function of
+// theta, which needs no arctangent.
+
+#include <sage/expression.hpp>
+#include <sage/primitives.hpp>
+
+#include <vector>
+
+namespace sage {
+
+/// A potential in [0, 1] from a field omega (>= 0 inside) and a support
+/// half-width w: P(t) = (1 + t)^2 (2 - t) / 4 with t = omega / w clamped to
+/// [-1, 1]. P = 1/2 on omega = 0, 0 where omega <= -w, 1 where omega >= w,
+/// C1 everywhere. Throws std::invalid_argument for w <= 0.
+Expr bounded_potential(const Expr& omega, double width);
+
+struct BoundedTransition {
+  double theta1 = M_PI / 8;      // radians, in (0, pi/4)
+  double theta2 = 3 * M_PI / 8;  // radians, in (pi/4, pi/2)
+  double iso = 0.5;              // C, in (0, 1)
+  /// Profile control points in model space; each must map to an angle
+  /// strictly between theta1 and theta2.
+  std::vector<Vec3> profile_points;
+};
+
+enum class BoundedOp { Union, Intersection, Difference };
+
+/// G(f1, f2) for potentials f1, f2 in `dimension` variables (needed to
+/// evaluate them at profile points). Throws std::invalid_argument for bad
+/// angles, iso-value or profile points, saying which.
+Expr bounded_compose(BoundedOp op, const Expr& f1, const Expr& f2, const BoundedTransition& transition, int dimension);
+
+/// Potential -> field: G - C, >= 0 inside the composed object.
+inline Expr iso_field(const Expr& potential, double iso) { return potential - iso; }
+
+}  // namespace sage
