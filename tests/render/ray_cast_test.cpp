@@ -63,7 +63,9 @@ TEST(RayCast, PlaneHitDistanceIsExact) {
   const Vec3 point{0.1, 0.2, -0.3}, normal = normalized({0.3, -0.2, 1});  // outward: solid below
   std::vector<Case> cases;
   for (int i = 0; i < 300; ++i) {
-    const Vec3 o = point + Vec3{uniform(-2, 2), uniform(-2, 2), 0} + uniform(0.5, 5) * normal;
+    // Start 0.5 to 5 above the plane: the sideways offset lies in the plane.
+    const Vec3 sideways{uniform(-2, 2), uniform(-2, 2), 0};
+    const Vec3 o = point + (sideways - dot(sideways, normal) * normal) + uniform(0.5, 5) * normal;
     const Vec3 d = normalized(Vec3{uniform(-0.5, 0.5), uniform(-0.5, 0.5), 0} - 1.0 * normal);
     cases.push_back({{o, d}, dot(point - o, normal) / dot(d, normal)});
   }
