@@ -88,7 +88,8 @@ Model load_gis(const std::string& path, const LoadOptions& options) {
       // R-functions take the sign of min/max of their arguments, so the
       // formula has the same zeros under every system; its min/max form
       // prunes (tape_specialization.hpp) and is proved fastest.
-      const Expr same_zeros = polygon_csg(gis.polygons, RSystem::min_max());
+      const Expr same_zeros =
+          m.rfunction == RSystem::min_max() ? m.field : polygon_csg(gis.polygons, RSystem::min_max());
       m.notes.push_back(certify_no_spurious_zeros(same_zeros, gis.polygons, *m.bounds, band).text +
                         " (proved on the min/max form of the formula: the same zeros under every R-function system)");
     }
