@@ -5,9 +5,13 @@
 // grid, per point and extrapolated to 1000 x 1000; and the time of
 // `sage field`'s sampling (value and gradient, interval-pruned tapes,
 // pruned_grid.hpp) on an M x M grid, on one thread and on all cores, when
-// its estimate is under a minute. Baseline in the same run: a single disk.
+// its estimate is under a minute. Then the same sampling with far-field
+// approximation (`sage field --tolerance`), with its deviation from exact
+// evaluation measured at random grid points and the brute-force time of
+// value and gradient beside it. Baseline in the same run: a single disk.
 //
-// Usage: gis_bench [GEOJSON] [N] [M]   (defaults 64 and 1000)
+// Usage: gis_bench [GEOJSON] [N] [M] [TOLERANCE] [ENLARGEMENT] [SAMPLING_DEGREE]
+//        (defaults 64, 1000, 1e-10, and sage's defaults of Approximation)
 
 #include <sage/evaluator.hpp>
 #include <sage/field_samples.hpp>
@@ -22,6 +26,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <random>
 #include <string>
 
 namespace {
@@ -44,15 +49,44 @@ double evaluate_grid(const sage::Expr& field, const sage::Grid& grid, double* ch
 }
 
 /// Seconds to sample value and gradient of `field` on `grid` with `threads`.
-double sample_grid(const sage::Expr& field, const sage::Grid& grid, int threads) {
+double sample_grid(const sage::Expr& field, const sage::Grid& grid, int threads,
+                   const sage::Approximation* approximation = nullptr, sage::FieldSamples* out = nullptr) {
   const sage::Tape tape(field, 2);
   const int all = omp_get_max_threads();
   omp_set_num_threads(threads);
   const auto start = std::chrono::steady_clock::now();
-  const sage::FieldSamples samples = sage::sample_field(tape, grid, 1);
+  sage::FieldSamples samples = sage::sample_field(tape, grid, 1, {}, approximation);
   const double t = seconds(start);
   omp_set_num_threads(all);
+  if (out) *out = std::move(samples);
   return t;
+}
+
+struct Deviation {
+  double value = 0;     // largest |approximate - exact| over the points
+  double gradient = 0;  // largest |grad approximate - grad exact|
+  double exact_seconds_per_point = 0;  // value and gradient, whole tape, one thread
+  std::size_t wrong_signs = 0;
+};
+
+/// Compares samples with exact evaluation of the whole tape (value and
+/// gradient) at `count` random grid points.
+Deviation measure_deviation(const sage::Expr& field, const sage::FieldSamples& samples, std::size_t count) {
+  const sage::Tape tape(field, 2);
+  sage::Evaluator<sage::Tuple<2, 1>> exact(tape);
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<std::size_t> pick(0, samples.grid.size() - 1);
+  Deviation d;
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = pick(rng);
+    const auto t = exact.at(samples.grid.point(i));
+    d.value = std::max(d.value, std::abs(t.value() - samples.omega[i]));
+    d.gradient = std::max(d.gradient, std::hypot(t.c[1] - samples.gradient[3 * i], t.c[2] - samples.gradient[3 * i + 1]));
+    d.wrong_signs += (t.value() > 0) != (samples.omega[i] > 0);
+  }
+  d.exact_seconds_per_point = seconds(start) / static_cast<double>(count);
+  return d;
 }
 
 }  // namespace
@@ -63,6 +97,7 @@ int main(int argc, char** argv) {
       argc > 1 ? argv[1] : std::string(SAGE_SOURCE_DIR) + "/../shared/data/gis/greenland_ne10m_EPSG3413.geojson";
   const int n = argc > 2 ? std::stoi(argv[2]) : 64;
   const int m = argc > 3 ? std::stoi(argv[3]) : 1000;
+  const double relative_tolerance = argc > 4 ? std::stod(argv[4]) : 1e-10;
 
   auto start = std::chrono::steady_clock::now();
   sage::geometry::LoadOptions options;
@@ -145,6 +180,30 @@ int main(int argc, char** argv) {
     const double one = sample_grid(field, big, 1), all = sample_grid(field, big, omp_get_max_threads());
     std::printf("%-16s %14.3f %14.3f %14.1f   (%.0fx faster than brute force doubles on all cores)\n", c->name, one,
                 all, brute, brute / all);
+  }
+
+  const double diagonal = std::hypot(x1 - x0, y1 - y0);
+  sage::Approximation approximation;
+  approximation.tolerance = relative_tolerance * diagonal;
+  if (argc > 5) approximation.enlargement = std::stod(argv[5]);
+  if (argc > 6) approximation.sampling_degree = std::stoi(argv[6]);
+  const std::size_t checks = 2000;
+  std::printf("\nwith far-field approximation, tolerance %.0e of the diagonal (%.3g), enlargement %.1f, sampling degree"
+              " %d, on %dx%d;\n",
+              relative_tolerance, approximation.tolerance, approximation.enlargement, approximation.sampling_degree, m, m);
+  std::printf("deviation from exact value + gradient at %zu random grid points, brute force = exact value + gradient"
+              " of the whole tape at every point, one thread:\n",
+              checks);
+  std::printf("%-16s %12s %12s %14s %14s %12s %12s %8s\n", "field", "1 thread s", "all cores s", "brute 1 thr s",
+              "speed-up", "max |dw|/D", "max |dgrad|", "signs");
+  for (const auto& [c, field, brute_per_point] : fields) {
+    sage::FieldSamples samples;
+    const double one = sample_grid(field, big, 1, &approximation);
+    const double all = sample_grid(field, big, omp_get_max_threads(), &approximation, &samples);
+    const Deviation d = measure_deviation(field, samples, checks);
+    const double brute = d.exact_seconds_per_point * static_cast<double>(big.size());
+    std::printf("%-16s %12.3f %12.3f %14.1f %13.0fx %12.2e %12.2e %8zu\n", c->name, one, all, brute, brute / one,
+                d.value / diagonal, d.gradient, d.wrong_signs);
   }
   return 0;
 }

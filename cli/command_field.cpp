@@ -1,4 +1,4 @@
-// sage field MODEL -o OUT.vtu [--grid 200x200] [--bounds ...] [--order K] [--rfunction r0]
+// sage field MODEL -o OUT.vtu [--grid 200x200] [--bounds ...] [--order K] [--rfunction r0] [--tolerance 1e-10]
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -29,6 +29,10 @@ int run_field(const std::vector<std::string>& args) {
   add("order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)");
   add("rfunction", po::value(&rfunction),
       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
+  add("tolerance", po::value(&job.tolerance)->default_value(0.0, "0"),
+      "far-field approximation: patches may deviate by this fraction of the\n"
+      "grid box's diagonal, e.g. 1e-10 (default 0: exact; R-function fields of\n"
+      "large polygons and meshes need it to be fast)");
   add("quiet,q", "no progress or summary");
   std::string where, layer;
   add_source_options(options, job.load, where, layer);
@@ -47,7 +51,11 @@ int run_field(const std::vector<std::string>& args) {
               << r.grid.points[1];
     if (r.grid.dimension == 3) std::cout << "x" << r.grid.points[2];
     std::cout << "), omega in [" << r.omega_min << ", " << r.omega_max << "], " << r.instructions
-              << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s\n";
+              << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s";
+    if (r.absolute_tolerance > 0)
+      std::cout << ", far-field approximation with tolerance " << job.tolerance << " of the diagonal ("
+                << r.absolute_tolerance << ")";
+    std::cout << "\n";
   }
   return 0;
 }

@@ -102,6 +102,8 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
   if (job.order < 1 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 1 to " + std::to_string(kMaxSampleOrder)};
+  if (!(job.tolerance >= 0 && job.tolerance < 1e-2))
+    throw UsageError{"--tolerance must be from 0 (exact) to below 1e-2 of the diagonal"};
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   FieldReport report;
   report.grid = grid_for(model, job.grid, job.bounds);
@@ -109,8 +111,13 @@ FieldReport run_field_job(const FieldJob& job) {
   auto start = std::chrono::steady_clock::now();
   const Tape tape(model.field, model.dimension);
   report.instructions = tape.code().size();
-  const FieldSamples samples = sample_field(
-      tape, report.grid, job.order, job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{});
+  Approximation approximation;
+  double diagonal2 = 0;
+  for (int a = 0; a < report.grid.dimension; ++a) diagonal2 += std::pow(report.grid.hi[a] - report.grid.lo[a], 2);
+  approximation.tolerance = report.absolute_tolerance = job.tolerance * std::sqrt(diagonal2);
+  const FieldSamples samples =
+      sample_field(tape, report.grid, job.order,
+                   job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{}, &approximation);
   report.seconds_sampling = seconds_since(start);
   const auto [lo, hi] = std::minmax_element(samples.omega.begin(), samples.omega.end());
   report.omega_min = *lo;

@@ -20,6 +20,9 @@ struct FieldJob {
   std::optional<std::string> rfunction;  // overrides the model's default
   geometry::LoadOptions load;            // GIS and mesh options
   int order = 1;
+  // Far-field approximation: allowed deviation relative to the grid box's
+  // diagonal (0 = exact sampling).
+  double tolerance = 0;
   bool show_progress = true;
 };
 
@@ -28,6 +31,7 @@ struct FieldReport {
   std::size_t instructions = 0;
   double omega_min = 0, omega_max = 0;
   double seconds_sampling = 0, seconds_writing = 0;
+  double absolute_tolerance = 0;  // in field units, 0 when exact
 };
 
 /// Reads any geometry source with the job's options (throws ModelError).

@@ -110,7 +110,9 @@ class RingFormula {
 
 Expr edge_halfplane(const Point2& a, const Point2& b) {
   const double dx = b[0] - a[0], dy = b[1] - a[1], length = std::hypot(dx, dy);
-  return (Expr::x() - a[0]) * (-dy / length) + (Expr::y() - a[1]) * (dx / length);
+  const double nx = -dy / length, ny = dx / length;
+  // n . (p - a), as one Axpby and one addition.
+  return (Expr::x() * nx + Expr::y() * ny) - (a[0] * nx + a[1] * ny);
 }
 
 Expr ring_csg(const Ring& ring, const RSystem& system, CsgStatistics* statistics) {

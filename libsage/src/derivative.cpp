@@ -82,6 +82,7 @@ class Differentiator {
       }
       case Op::PowReal: return f.param(0) * div_safe(f * d(u), u);
       case Op::Add: return d(u) + d(v);
+      case Op::Axpby: return d(u) * f.param(0) + d(v) * f.param(1);
       case Op::Sub: return d(u) - d(v);
       case Op::Mul: return d(u) * v + u * d(v);
       case Op::Div: return (d(u) - f * d(v)) / v;
@@ -90,6 +91,7 @@ class Differentiator {
       case Op::Max: return d(u) + step(v - u) * (d(v) - d(u));
       case Op::RAnd:
       case Op::ROr: return d(expansion(f));
+      case Op::Patch: break;  // tapes only
     }
     throw std::logic_error("derivative: unknown operation");
   }

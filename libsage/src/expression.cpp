@@ -45,6 +45,8 @@ Expr Expr::var(int index) {
 }
 
 Expr Expr::make(Op op, const Expr& a, const Expr& b, double p0, double p1) {
+  if (tape_only(op) || op == Op::Classify)
+    throw std::invalid_argument(std::string(op_name(op)) + " nodes are not made with Expr::make");
   const int n = arity(op);
   return Expr(new_node(op, n >= 1 ? a.node_ : nullptr, n >= 2 ? b.node_ : nullptr, p0, p1));
 }
@@ -90,10 +92,30 @@ std::size_t Expr::node_count() const {
 
 // ---- construction with folding ---------------------------------------------
 
+namespace {
+// u * c or c * u with a constant c: the parts of an Axpby.
+bool scaled(const Expr& e, Expr& u, double& c) {
+  if (e.op() != Op::Mul) return false;
+  if (e.arg(1).is_constant()) {
+    u = e.arg(0), c = e.arg(1).constant_value();
+    return true;
+  }
+  if (e.arg(0).is_constant()) {
+    u = e.arg(1), c = e.arg(0).constant_value();
+    return true;
+  }
+  return false;
+}
+}  // namespace
+
 Expr operator+(const Expr& a, const Expr& b) {
   if (both_constant(a, b)) return a.constant_value() + b.constant_value();
   if (a.is_constant(0.0)) return b;
   if (b.is_constant(0.0)) return a;
+  // a u + b v in one instruction (halfplanes, linear maps).
+  Expr u, v;
+  double cu = 0, cv = 0;
+  if (scaled(a, u, cu) && scaled(b, v, cv)) return Expr::make(Op::Axpby, u, v, cu, cv);
   return Expr::make(Op::Add, a, b);
 }
 
@@ -101,6 +123,9 @@ Expr operator-(const Expr& a, const Expr& b) {
   if (both_constant(a, b)) return a.constant_value() - b.constant_value();
   if (b.is_constant(0.0)) return a;
   if (a.is_constant(0.0)) return -b;
+  Expr u, v;
+  double cu = 0, cv = 0;
+  if (scaled(a, u, cu) && scaled(b, v, cv)) return Expr::make(Op::Axpby, u, v, cu, -cv);
   return Expr::make(Op::Sub, a, b);
 }
 

@@ -11,7 +11,7 @@ namespace sage {
 namespace {
 
 template <int N, int K>
-FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress) {
+FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress, const Approximation* approximation) {
   using T = Tuple<N, K>;
   const std::size_t n = grid.size();
   FieldSamples s;
@@ -58,29 +58,31 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
           for (std::size_t c = 0; c < m; ++c) d.values[p * m + c] = t.derivative_at(positions[k][c]);
         }
       },
-      progress);
+      progress, approximation);
   return s;
 }
 
 template <int N, int K = 1>
-FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progress& progress) {
+FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progress& progress,
+                      const Approximation* approximation) {
   if constexpr (K > kMaxSampleOrder) {
     throw std::invalid_argument("order " + std::to_string(order) + " is above the maximum " +
                                 std::to_string(kMaxSampleOrder));
   } else {
-    if (order == K) return sample<N, K>(tape, grid, progress);
-    return dispatch<N, K + 1>(tape, grid, order, progress);
+    if (order == K) return sample<N, K>(tape, grid, progress, approximation);
+    return dispatch<N, K + 1>(tape, grid, order, progress, approximation);
   }
 }
 
 }  // namespace
 
-FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress) {
+FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress,
+                          const Approximation* approximation) {
   if (order < 1 || order > kMaxSampleOrder)
     throw std::invalid_argument("order must be from 1 to " + std::to_string(kMaxSampleOrder));
   if (grid.dimension != tape.dimension()) throw std::invalid_argument("grid and tape dimensions differ");
-  if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress);
-  return dispatch<3>(tape, grid, order, progress);
+  if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress, approximation);
+  return dispatch<3>(tape, grid, order, progress, approximation);
 }
 
 }  // namespace sage

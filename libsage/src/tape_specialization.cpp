@@ -2,6 +2,7 @@
 #include <sage/tape_specialization.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 namespace sage {
@@ -38,19 +39,65 @@ bool TapeSpecializer::worthwhile(const Tape& tape) {
 }
 
 std::optional<Tape> TapeSpecializer::specialize(const Interval* box) {
+  if (!decide(box, false)) return std::nullopt;
+  return rebuild();
+}
+
+namespace {
+
+// Whether an instruction is analytic wherever its arguments range over a
+// and b, given the pass's decision (pruned min/max nodes and constants are;
+// a kink or a root singularity that the intervals cannot exclude is not).
+bool analytic_over(const Instruction& ins, bool kept, const Interval& a, const Interval& b, const Interval& out) {
+  if (out.is_nan()) return false;
+  if (!kept) return true;  // a settled min/max, step or classifier
+  switch (ins.op) {
+    case Op::Sqrt:
+    case Op::Log:
+    case Op::PowReal: return a.lo > 0;
+    case Op::Abs:
+    case Op::Step: return !a.contains_zero();
+    case Op::Div:
+    case Op::DivSafe: return !b.contains_zero();
+    case Op::PowInt: return ins.p0 >= 0 || !a.contains_zero();
+    case Op::Min:
+    case Op::Max:
+    case Op::Classify: return false;
+    case Op::RAnd:
+    case Op::ROr: {
+      const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
+      // min/max (and R_alpha at alpha = 1) kink where the arguments meet;
+      // the others are singular only where both vanish.
+      if (s.kind == RKind::MinMax || (s.kind == RKind::RAlpha && s.parameter >= 1.0))
+        return a.hi < b.lo || b.hi < a.lo;
+      return !a.contains_zero() || !b.contains_zero();
+    }
+    default: return true;
+  }
+}
+
+}  // namespace
+
+bool TapeSpecializer::decide(const Interval* box, bool analyticity) {
   for (int i = 0; i < tape_->dimension(); ++i) registers_[i] = box[i];
   bool pruned = false;
   const auto& code = tape_->code();
+  if (analyticity) {
+    analytic_.assign(code.size(), 0);
+    register_analytic_.assign(tape_->register_count(), 1);  // variables and constants
+  }
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
     Fate fate = Fate::Keep;
     Interval out;
+    const Interval& a = registers_[ins.a];
+    const Interval& b = registers_[ins.b];
     if (ins.op == Op::Classify) {
       out = classify_at(*ins.classifier, registers_.data());
       if (out.lo == out.hi) fate = Fate::Constant;
+    } else if (ins.op == Op::Patch) {
+      out = ins.patch->evaluate(registers_.data());
     } else {
-      const Interval& a = registers_[ins.a];
-      const Interval& b = registers_[ins.b];
       // Strict comparisons: NaN bounds never prune.
       if (is_min(ins)) {
         if (a.hi < b.lo) fate = Fate::FirstArgument;
@@ -62,13 +109,113 @@ std::optional<Tape> TapeSpecializer::specialize(const Interval* box) {
       out = apply<Interval>(ins, a, b);
       if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
+    if (analyticity) {
+      // A forwarded node is as analytic as the argument it forwards.
+      const int k = arity(ins.op);
+      bool args = true;
+      if (fate == Fate::FirstArgument) args = register_analytic_[ins.a];
+      else if (fate == Fate::SecondArgument) args = register_analytic_[ins.b];
+      else if (fate == Fate::Keep) args = (k < 1 || register_analytic_[ins.a]) && (k < 2 || register_analytic_[ins.b]);
+      analytic_[i] = args && analytic_over(ins, fate == Fate::Keep, a, b, out);
+      register_analytic_[ins.out] = analytic_[i];
+    }
     fate_[i] = fate;
     constant_[i] = out.lo;  // exact for the constant fates: step gives 0 or 1, classify one value
     pruned |= fate != Fate::Keep;
     registers_[ins.out] = out;
   }
-  if (!pruned) return std::nullopt;
+  return pruned;
+}
+
+std::optional<Tape> TapeSpecializer::approximate(const Interval* box, const Approximation& settings) {
+  std::array<Interval, 3> enlarged{Interval(0.0), Interval(0.0), Interval(0.0)};
+  for (int a = 0; a < tape_->dimension(); ++a) {
+    const double half = 0.5 * box[a].width() * settings.enlargement;
+    enlarged[a] = Interval(box[a].mid() - half, box[a].mid() + half);
+  }
+  bool changed = decide(enlarged.data(), true);
+  changed |= fit_patches(box, settings);
+  if (!changed) return std::nullopt;
   return rebuild();
+}
+
+bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& settings) {
+  const auto& code = tape_->code();
+  const std::size_t n = code.size();
+  const int dimension = tape_->dimension();
+
+  // The producer of every argument (or none: a variable or constant), the
+  // size of each subtree as the specialized program would run it, and
+  // whether an analytic instruction reads it (then it is not the largest).
+  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::vector<std::size_t> producer(tape_->register_count(), kNone);
+  std::vector<std::size_t> arg_a(n, kNone), arg_b(n, kNone), size(n, 0);
+  std::vector<char> read_by_analytic(n, 0);
+  auto size_of = [&](std::size_t j) { return j == kNone ? std::size_t{0} : size[j]; };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Instruction& ins = code[i];
+    const int k = ins.op == Op::Patch ? 0 : arity(ins.op);
+    // Only the arguments the specialized program reads.
+    if (k >= 1 && fate_[i] != Fate::SecondArgument && fate_[i] != Fate::Constant) arg_a[i] = producer[ins.a];
+    if (k >= 2 && fate_[i] != Fate::FirstArgument && fate_[i] != Fate::Constant && ins.b != ins.a)
+      arg_b[i] = producer[ins.b];
+    const bool runs = fate_[i] == Fate::Keep;
+    size[i] = (runs ? 1 : 0) + size_of(arg_a[i]) + size_of(arg_b[i]);
+    if (analytic_[i]) {
+      if (arg_a[i] != kNone) read_by_analytic[arg_a[i]] = 1;
+      if (arg_b[i] != kNone) read_by_analytic[arg_b[i]] = 1;
+    }
+    producer[ins.out] = i;
+  }
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < n; ++i)
+    if (analytic_[i] && !read_by_analytic[i] && size[i] >= settings.min_subtree) candidates.push_back(i);
+  if (candidates.empty()) return false;
+
+  // The instructions the candidates need, then their values at the samples.
+  std::vector<char> needed(n, 0);
+  for (std::size_t c : candidates) needed[c] = 1;
+  for (std::size_t i = n; i-- > 0;) {
+    if (!needed[i]) continue;
+    if (arg_a[i] != kNone) needed[arg_a[i]] = 1;
+    if (arg_b[i] != kNone) needed[arg_b[i]] = 1;
+  }
+  std::vector<std::size_t> slot(n, kNone);
+  for (std::size_t k = 0; k < candidates.size(); ++k) slot[candidates[k]] = k;
+  const int degree = settings.sampling_degree;
+  std::size_t samples = 1;
+  for (int a = 0; a < dimension; ++a) samples *= static_cast<std::size_t>(degree + 1);
+  std::vector<std::vector<double>> values(candidates.size(), std::vector<double>(samples));
+  std::vector<double> regs(tape_->register_count());
+  for (const auto& [r, c] : tape_->constants()) regs[r] = c;
+  for (std::size_t s = 0; s < samples; ++s) {
+    const auto p = ChebyshevPatch::sample_point(box, dimension, degree, s);
+    for (int a = 0; a < dimension; ++a) regs[static_cast<std::size_t>(a)] = p[static_cast<std::size_t>(a)];
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!needed[i]) continue;
+      const Instruction& ins = code[i];
+      switch (fate_[i]) {
+        case Fate::Keep: regs[ins.out] = evaluate_instruction<double>(ins, regs.data()); break;
+        case Fate::FirstArgument: regs[ins.out] = regs[ins.a]; break;
+        case Fate::SecondArgument: regs[ins.out] = regs[ins.b]; break;
+        case Fate::Constant: regs[ins.out] = constant_[i]; break;
+        case Fate::Patch: break;  // not yet decided in this pass
+      }
+      if (slot[i] != kNone) values[slot[i]][s] = regs[ins.out];
+    }
+  }
+
+  bool made = false;
+  patch_.resize(n);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    auto patch = ChebyshevPatch::fit(box, dimension, degree, values[k], settings.tolerance);
+    if (!patch) continue;
+    fate_[candidates[k]] = Fate::Patch;
+    patch_[candidates[k]] = std::move(patch);
+    ++patches_made_;
+    made = true;
+  }
+  return made;
 }
 
 Tape TapeSpecializer::rebuild() const {
@@ -91,7 +238,8 @@ Tape TapeSpecializer::rebuild() const {
     arg_a[i] = source_of_register[ins.a];
     arg_b[i] = source_of_register[ins.b];
     switch (fate_[i]) {
-      case Fate::Keep: result[i] = static_cast<Source>(i); break;
+      case Fate::Keep:
+      case Fate::Patch: result[i] = static_cast<Source>(i); break;
       case Fate::FirstArgument: result[i] = arg_a[i]; break;
       case Fate::SecondArgument: result[i] = arg_b[i]; break;
       case Fate::Constant:
@@ -114,9 +262,11 @@ Tape TapeSpecializer::rebuild() const {
       constant_live[static_cast<std::size_t>(kConstant - s)] = 1;
   };
   for (Source r : roots) mark(r);
+  // A patch reads no registers: its subtree dies unless used elsewhere.
+  auto arguments = [&](std::size_t i) { return fate_[i] == Fate::Patch ? 0 : arity(code[i].op); };
   for (std::size_t i = n; i-- > 0;) {
     if (!live[i]) continue;
-    const int k = arity(code[i].op);
+    const int k = arguments(i);
     if (k >= 1) mark(arg_a[i]);
     if (k >= 2) mark(arg_b[i]);
   }
@@ -126,7 +276,7 @@ Tape TapeSpecializer::rebuild() const {
   std::vector<std::size_t> last_use(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!live[i]) continue;
-    const int k = arity(code[i].op);
+    const int k = arguments(i);
     if (k >= 1 && is_instruction(arg_a[i])) last_use[static_cast<std::size_t>(arg_a[i])] = i;
     if (k >= 2 && is_instruction(arg_b[i])) last_use[static_cast<std::size_t>(arg_b[i])] = i;
   }
@@ -156,7 +306,15 @@ Tape TapeSpecializer::rebuild() const {
   for (std::size_t i = 0; i < n; ++i) {
     if (!live[i]) continue;
     Instruction ins = code[i];
-    const int k = arity(ins.op);
+    if (fate_[i] == Fate::Patch) {
+      ins.op = Op::Patch;
+      ins.patch = patch_[i].get();
+      ins.classifier = nullptr;
+      t.patches_.push_back(patch_[i]);
+    } else if (ins.op == Op::Patch) {
+      t.patches_.push_back(ins.patch->shared_from_this());
+    }
+    const int k = arguments(i);
     if (k >= 1) ins.a = register_of(arg_a[i]);
     if (k >= 2) ins.b = register_of(arg_b[i]);
     // Free arguments read for the last time (once, if both are the same

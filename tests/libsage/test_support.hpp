@@ -248,6 +248,11 @@ inline std::vector<OpCase> op_cases(bool chain) {
         binary(
             "add", op, 0, 0, [](double a, double b) { return a + b; }, [](double, double) { return true; });
         break;
+      case Op::Axpby:
+        binary(
+            "axpby", op, 1.5, -0.75, [](double a, double b) { return 1.5 * a - 0.75 * b; },
+            [](double, double) { return true; });
+        break;
       case Op::Sub:
         binary(
             "sub", op, 0, 0, [](double a, double b) { return a - b; }, [](double, double) { return true; });
@@ -297,6 +302,7 @@ inline std::vector<OpCase> op_cases(bool chain) {
         }
         break;
       }
+      case Op::Patch: break;  // tapes only: chebyshev_patch_test.cpp
     }
   }
   return cases;

@@ -68,18 +68,28 @@ T apply(const Instruction& ins, const T& a, const T& b) {
     case Op::DivSafe: return div_safe(a, b);
     case Op::Min: return min(a, b);
     case Op::Max: return max(a, b);
+    case Op::Axpby: return a * ins.p0 + b * ins.p1;
     case Op::RAnd:
     case Op::ROr: {
       const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
       return r_combine(a, b, s, ins.op == Op::RAnd ? -1.0 : 1.0);
     }
     case Op::Const: return T(ins.p0);
-    case Op::Classify: break;  // needs the point: Evaluator::run handles it
+    case Op::Classify:
+    case Op::Patch: break;  // need the point: evaluate_instruction handles them
     case Op::VarX:
     case Op::VarY:
     case Op::VarZ: break;  // never in code: variables live in fixed registers
   }
   return a;
+}
+
+/// One instruction over registers `regs` (variables in 0..dimension-1).
+template <class T>
+T evaluate_instruction(const Instruction& ins, const T* regs) {
+  if (ins.op == Op::Classify) return classify_at(*ins.classifier, regs);
+  if (ins.op == Op::Patch) return ins.patch->evaluate(regs);
+  return apply<T>(ins, regs[ins.a], regs[ins.b]);
 }
 
 template <class T>
@@ -112,14 +122,7 @@ class Evaluator {
 
  private:
   void run() {
-    for (const Instruction& ins : tape_->code()) {
-      if (ins.op == Op::Classify) {
-        // Variables sit in registers 0..dimension-1 (tape.hpp).
-        regs_[ins.out] = classify_at(*ins.classifier, regs_.data());
-        continue;
-      }
-      regs_[ins.out] = apply<T>(ins, regs_[ins.a], regs_[ins.b]);
-    }
+    for (const Instruction& ins : tape_->code()) regs_[ins.out] = evaluate_instruction<T>(ins, regs_.data());
   }
 
   const Tape* tape_;

@@ -12,6 +12,7 @@
 
 #include <sage/grid.hpp>
 #include <sage/tape.hpp>
+#include <sage/tape_specialization.hpp>
 
 #include <string>
 #include <vector>
@@ -36,7 +37,10 @@ struct FieldSamples {
 constexpr int kMaxSampleOrder = 6;
 
 /// Evaluates root 0 of `tape` with tuples of `order` (1..kMaxSampleOrder)
-/// at every point of `grid`, on all cores.
-FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress = {});
+/// at every point of `grid`, on all cores: exactly (interval pruning keeps
+/// every bit), or with far-field patches when `approximation` is given
+/// with a positive tolerance (pruned_grid.hpp).
+FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress = {},
+                          const Approximation* approximation = nullptr);
 
 }  // namespace sage

@@ -34,9 +34,11 @@ namespace sage {
   X(DivSafe, 34, "div_safe", 2) /* x / y, 0 where y = 0 */                       \
   X(Min,     35, "min",      2)                                                  \
   X(Max,     36, "max",      2)                                                  \
+  X(Axpby,   37, "axpby",    2) /* p0 a + p1 b: halfplanes in two instructions */ \
   X(RAnd,    50, "r_and",    2) /* R-conjunction; p0, p1 = RSystem */            \
   X(ROr,     51, "r_or",     2) /* R-disjunction; p0, p1 = RSystem */          \
-  X(Classify, 60, "classify", 0) /* point membership, +1 / 0 / -1 */
+  X(Classify, 60, "classify", 0) /* point membership, +1 / 0 / -1 */          \
+  X(Patch,   61, "patch",    0) /* tapes only: a ChebyshevPatch standing in for a subtree */
 // clang-format on
 
 enum class Op : std::uint8_t {
@@ -64,6 +66,10 @@ constexpr std::string_view op_name(Op op) {
   }
   return "?";
 }
+
+/// Operations that appear in tapes only, never in expression graphs: the
+/// far-field approximation (tape_specialization.hpp) puts them there.
+constexpr bool tape_only(Op op) { return op == Op::Patch; }
 
 /// Every operation, for sweeps in tests and tools.
 constexpr Op kAllOps[] = {

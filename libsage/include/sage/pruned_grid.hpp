@@ -7,6 +7,11 @@
 // of the whole tape.
 //
 // Blocks are OpenMP tasks, so all cores share the work.
+//
+// With an Approximation (tape_specialization.hpp), blocks large enough to
+// repay the samples get tapes with far-field Chebyshev patches instead:
+// not bit-identical, within the stated tolerance, and fast for R-function
+// trees that pruning cannot touch.
 
 #include <sage/grid.hpp>
 #include <sage/tape_specialization.hpp>
@@ -43,13 +48,38 @@ constexpr std::size_t kLeafPoints = 16;  // evaluate point by point below this
 constexpr std::size_t kSmallTape = 16;   // too short to be worth specializing
 constexpr int kTaskDepth = 8;            // deeper blocks run in their parent's task
 
+/// How blocks are specialized: exact pruning (where worthwhile) and, with
+/// an approximation, patches over blocks of at least patch_points points.
+struct BlockPlan {
+  bool prune = true;
+  const Approximation* approximation = nullptr;
+  std::size_t patch_points = 0;
+};
+
+inline BlockPlan plan_for(const Tape& tape, const Grid& grid, const Approximation* approximation) {
+  BlockPlan plan;
+  plan.prune = TapeSpecializer::worthwhile(tape);
+  if (approximation && approximation->tolerance > 0) {
+    plan.approximation = approximation;
+    // A patch costs (n + 1)^dim samples of its subtree: fit it only over
+    // blocks with several times as many points.
+    std::size_t samples = 1;
+    for (int a = 0; a < grid.dimension; ++a) samples *= static_cast<std::size_t>(approximation->sampling_degree + 1);
+    plan.patch_points = 3 * samples;
+  }
+  return plan;
+}
+
 template <class T, class Visit>
 void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Visit& visit, int depth,
-                 std::atomic<std::size_t>& done, const Progress& progress) {
-  if (block.size() > kLeafPoints && tape.code().size() > kSmallTape) {
+                 std::atomic<std::size_t>& done, const Progress& progress, const BlockPlan& plan) {
+  const bool patch = plan.approximation && block.size() >= plan.patch_points;
+  const bool prune = plan.prune && block.size() > kLeafPoints;
+  if ((patch || prune) && tape.code().size() > kSmallTape) {
     TapeSpecializer specializer(tape);
     const std::array<Interval, 3> box = block_box(grid, block);
-    const std::optional<Tape> smaller = specializer.specialize(box.data());
+    const std::optional<Tape> smaller =
+        patch ? specializer.approximate(box.data(), *plan.approximation) : specializer.specialize(box.data());
     const Tape& next = smaller ? *smaller : tape;
     // Halve every axis that has more than one point.
     std::array<int, 3> mid{};
@@ -67,7 +97,7 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
       }
       if (skip) continue;
 #pragma omp task default(shared) firstprivate(child) if (depth < kTaskDepth)
-      visit_block<T>(next, grid, child, visit, depth + 1, done, progress);
+      visit_block<T>(next, grid, child, visit, depth + 1, done, progress, plan);
     }
 #pragma omp taskwait
     return;
@@ -93,16 +123,19 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
 
 /// Same contract as for_each_grid_point (grid.hpp): visit(index, evaluator)
 /// once per grid point, concurrently for different indices; here the
-/// evaluator runs a tape specialized to a block around the point.
+/// evaluator runs a tape specialized to a block around the point (and with
+/// far-field patches when `approximation` has a positive tolerance).
 template <class T, class Visit>
-void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit, const Progress& progress = {}) {
+void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit, const Progress& progress = {},
+                                const Approximation* approximation = nullptr) {
   detail::GridBlock all;
   for (int a = 0; a < 3; ++a) all.hi[a] = grid.points[a];
   std::atomic<std::size_t> done{0};
-  if (!TapeSpecializer::worthwhile(tape)) return for_each_grid_point<T>(tape, grid, visit, progress);
+  const detail::BlockPlan plan = detail::plan_for(tape, grid, approximation);
+  if (!plan.prune && !plan.approximation) return for_each_grid_point<T>(tape, grid, visit, progress);
 #pragma omp parallel
 #pragma omp single
-  detail::visit_block<T>(tape, grid, all, visit, 0, done, progress);
+  detail::visit_block<T>(tape, grid, all, visit, 0, done, progress, plan);
   if (progress) progress(1.0);
 }
 

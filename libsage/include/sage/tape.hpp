@@ -11,6 +11,7 @@
 // Several roots may be compiled together (a field and its gradient, say);
 // shared subexpressions are then computed once per point.
 
+#include <sage/chebyshev_patch.hpp>
 #include <sage/expression.hpp>
 
 #include <cstdint>
@@ -26,6 +27,7 @@ struct Instruction {
   double p0;
   double p1;
   const PointClassifier* classifier = nullptr;  // Op::Classify; owned by the Tape
+  const ChebyshevPatch* patch = nullptr;        // Op::Patch; owned by the Tape
 };
 
 class Tape {
@@ -56,6 +58,7 @@ class Tape {
   std::vector<std::pair<std::uint32_t, double>> constants_;
   std::vector<std::uint32_t> results_;
   std::vector<std::shared_ptr<const PointClassifier>> classifiers_;  // keeps them alive
+  std::vector<std::shared_ptr<const ChebyshevPatch>> patches_;       // likewise
 };
 
 }  // namespace sage

@@ -15,6 +15,19 @@
 // R0, R_alpha and Rp nodes depend on both arguments everywhere, so they are
 // never pruned: their fields are exact only when evaluated whole.
 //
+// Far-field approximation (approximate()) is for them: over a box, a
+// subtree whose every operation is analytic over an enlarged box (an
+// R-function with one argument's interval away from 0, a sqrt of a
+// positive interval, a settled min or classifier, ...) is smooth across the
+// box, so a Chebyshev patch (chebyshev_patch.hpp) fitted to its values at
+// Chebyshev points replaces it, when the patch's coefficients show it
+// within the tolerance. Far from a polygon's coast the whole field becomes
+// one patch; near it, the edges close by stay exact and the rest of the
+// coast is a few patches. The result is no longer bit-identical: its
+// deviation is the patches' tolerance, amplified by the operations above
+// them (R-function partial derivatives lie in [0, 2]), and is measured
+// against exact evaluation by tests and bench/gis_bench.
+//
 //     TapeSpecializer specializer(tape);   // if TapeSpecializer::worthwhile(tape)
 //     std::array<Interval, 3> box{Interval(0, 1), Interval(0, 1), Interval(0)};
 //     if (auto smaller = specializer.specialize(box.data())) use(*smaller);
@@ -28,6 +41,14 @@
 
 namespace sage {
 
+/// Settings of far-field approximation.
+struct Approximation {
+  double tolerance = 0;        // absolute tail allowed per patch (field units)
+  double enlargement = 3;      // analyticity is proved over the box scaled by this about its centre
+  int sampling_degree = 12;    // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
+  std::size_t min_subtree = 48;  // smaller subtrees are cheaper to run than a patch
+};
+
 class TapeSpecializer {
  public:
   /// Borrows `tape`, which must outlive the specializer. Not thread-safe:
@@ -38,6 +59,14 @@ class TapeSpecializer {
   /// tape specialized to it, or nothing when no instruction could be
   /// dropped. The roots' enclosures over the box are in result() either way.
   std::optional<Tape> specialize(const Interval* box);
+
+  /// Specializes over `box` as specialize() does, with the min/max and
+  /// constant decisions taken over the enlarged box, and also replaces the
+  /// largest analytic subtrees by Chebyshev patches fitted over `box` (see
+  /// above). Returns nothing when nothing changed. Patches count in
+  /// patches_made().
+  std::optional<Tape> approximate(const Interval* box, const Approximation& settings);
+  std::size_t patches_made() const { return patches_made_; }
 
   /// Whether enough of `tape`'s instructions could ever be dropped (min,
   /// max, min/max R-function nodes, steps, point classifiers: at least one
@@ -50,14 +79,22 @@ class TapeSpecializer {
 
  private:
   // What an instruction becomes over the box.
-  enum class Fate : unsigned char { Keep, FirstArgument, SecondArgument, Constant };
+  enum class Fate : unsigned char { Keep, FirstArgument, SecondArgument, Constant, Patch };
 
+  // The interval pass: fates, enclosures, and (when asked) analyticity.
+  bool decide(const Interval* box, bool analyticity);
+  // Fits patches to the largest analytic subtrees; true if any was made.
+  bool fit_patches(const Interval* box, const Approximation& settings);
   Tape rebuild() const;
 
   const Tape* tape_;
   std::vector<Interval> registers_;
   std::vector<Fate> fate_;
   std::vector<double> constant_;  // the value, for Fate::Constant
+  std::vector<char> analytic_;    // per instruction, over the last enlarged box
+  std::vector<char> register_analytic_;
+  std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
+  std::size_t patches_made_ = 0;
 };
 
 }  // namespace sage

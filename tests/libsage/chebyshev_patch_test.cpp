@@ -1,0 +1,189 @@
+// Chebyshev patches and far-field approximation: polynomials are fitted
+// exactly; analytic fields within the stated tail; kinks are refused;
+// interval evaluation encloses the patch; tuples give the patch's exact
+// derivatives; and approximated grid sampling of a large R0 tree stays
+// within its tolerance of exact evaluation, with far boxes reduced to a
+// single patch.
+
+#include "test_support.hpp"
+
+#include <sage/chebyshev_patch.hpp>
+#include <sage/field_samples.hpp>
+#include <sage/primitives.hpp>
+#include <sage/pruned_grid.hpp>
+#include <sage/tape_specialization.hpp>
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+namespace sage {
+namespace {
+
+using Box = std::array<Interval, 3>;
+
+std::shared_ptr<const ChebyshevPatch> fit_function(const Box& box, int n, double tolerance,
+                                                   const std::function<double(double, double)>& f) {
+  std::vector<double> values((n + 1) * (n + 1));
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const auto p = ChebyshevPatch::sample_point(box.data(), 2, n, k);
+    values[k] = f(p[0], p[1]);
+  }
+  return ChebyshevPatch::fit(box.data(), 2, n, values, tolerance);
+}
+
+TEST(ChebyshevPatch, OneDimensionalWorkedExample) {
+  // x^2 on [-1, 1] = (T0 + T2) / 2, from the header's example (sampled
+  // with n = 4 here: fits go up to degree n - 2).
+  const Box box{Interval(-1, 1), Interval(0.0), Interval(0.0)};
+  std::vector<double> values(5);
+  for (std::size_t k = 0; k < 5; ++k) values[k] = std::pow(ChebyshevPatch::sample_point(box.data(), 1, 4, k)[0], 2);
+  const auto patch = ChebyshevPatch::fit(box.data(), 1, 4, values, 1e-14);
+  ASSERT_TRUE(patch);
+  EXPECT_EQ(patch->degree(), 2);
+  const double x = 0.3;
+  EXPECT_NEAR(patch->evaluate(&x), 0.09, 1e-15);
+}
+
+TEST(ChebyshevPatch, ReproducesPolynomialsWithTheirDerivatives) {
+  auto f = [](double x, double y) { return x * x + 3 * x * y - y * y * y + 1; };
+  const Box box{Interval(1, 3), Interval(-2, 0), Interval(0.0)};
+  const auto patch = fit_function(box, 8, 1e-11, f);
+  ASSERT_TRUE(patch);
+  EXPECT_EQ(patch->degree(), 3);
+  auto rng = test::make_rng(3);
+  for (int k = 0; k < 200; ++k) {
+    const double x = test::uniform(rng, 1, 3), y = test::uniform(rng, -2, 0);
+    const Tuple<2, 2> vars[2] = {Tuple<2, 2>::variable(0, x), Tuple<2, 2>::variable(1, y)};
+    const Tuple<2, 2> t = patch->evaluate(vars);
+    EXPECT_NEAR(t.value(), f(x, y), 1e-12);
+    EXPECT_NEAR(t.derivative({1, 0}), 2 * x + 3 * y, 1e-11);
+    EXPECT_NEAR(t.derivative({0, 1}), 3 * x - 3 * y * y, 1e-11);
+    EXPECT_NEAR(t.derivative({1, 1}), 3.0, 1e-10);
+    EXPECT_NEAR(t.derivative({0, 2}), -6 * y, 1e-10);
+  }
+}
+
+TEST(ChebyshevPatch, AnalyticFieldsWithinTheirTail) {
+  // A distance-like field whose nearest singularity (the corner of an R0
+  // wedge at the origin) is 8 half-widths from the box centre.
+  auto f = [](double x, double y) { return x + y - std::hypot(x, y); };
+  const Box box{Interval(3.5, 4.5), Interval(-0.5, 0.5), Interval(0.0)};
+  for (double tolerance : {1e-6, 1e-8, 1e-10}) {
+    const auto patch = fit_function(box, 12, tolerance, f);
+    ASSERT_TRUE(patch) << tolerance;
+    auto rng = test::make_rng(4);
+    double worst = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const double p[2] = {test::uniform(rng, 3.5, 4.5), test::uniform(rng, -0.5, 0.5)};
+      worst = std::max(worst, std::abs(patch->evaluate(p) - f(p[0], p[1])));
+    }
+    EXPECT_LE(worst, tolerance) << "degree " << patch->degree();
+    EXPECT_LE(worst, 10 * patch->tail() + 1e-14) << "the tail is an honest error estimate";
+  }
+}
+
+TEST(ChebyshevPatch, RefusesKinksAndNonFiniteSamples) {
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
+  EXPECT_FALSE(fit_function(box, 12, 1e-6, [](double x, double) { return std::abs(x); }));
+  EXPECT_FALSE(fit_function(box, 12, 1e-6, [](double x, double y) { return std::min(x, y); }));
+  EXPECT_FALSE(fit_function(box, 12, 1e-6, [](double x, double) { return x > 0.9 ? NAN : x; }));
+  const Box flat{Interval(-1, 1), Interval(2.0), Interval(0.0)};
+  EXPECT_FALSE(fit_function(flat, 12, 1e-6, [](double x, double) { return x; }));
+}
+
+TEST(ChebyshevPatch, IntervalsEncloseThePatch) {
+  auto f = [](double x, double y) { return std::exp(x) * std::sin(3 * y) + x * y; };
+  const Box box{Interval(-1, 2), Interval(0, 1), Interval(0.0)};
+  const auto patch = fit_function(box, 12, 1e-4, f);
+  ASSERT_TRUE(patch);
+  auto rng = test::make_rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double x = test::uniform(rng, -1, 1.5), y = test::uniform(rng, 0, 0.8);
+    const double wx = test::uniform(rng, 0, 0.5), wy = test::uniform(rng, 0, 0.2);
+    const Interval sub[2] = {Interval(x, x + wx), Interval(y, y + wy)};
+    const Interval range = patch->evaluate(sub);
+    for (int k = 0; k < 20; ++k) {
+      const double p[2] = {x + test::uniform(rng, 0, wx), y + test::uniform(rng, 0, wy)};
+      EXPECT_TRUE(range.contains(patch->evaluate(p)));
+    }
+  }
+}
+
+// The R0 intersection of n halfplanes tangent to a circle of radius 10:
+// a regular n-gon, a balanced tree of n - 1 R0 nodes that pruning cannot
+// touch (every node depends on both arguments everywhere).
+Expr polygon_r0(int n) {
+  std::vector<Expr> sides;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    sides.push_back(halfspace({10 * std::cos(a), 10 * std::sin(a), 0}, {std::cos(a), std::sin(a), 0}, 2));
+  }
+  return r_conjunction_n(sides, RSystem::r0());
+}
+
+TEST(FarFieldApproximation, FarBoxesBecomeOnePatchAndNearBoxesKeepTheirEdges) {
+  const Tape tape(polygon_r0(256), 2);
+  TapeSpecializer specializer(tape);
+  Approximation settings;
+  settings.tolerance = 1e-9;
+  // A box near the centre: the whole field is analytic there.
+  const Box centre{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
+  const std::optional<Tape> far = specializer.approximate(centre.data(), settings);
+  ASSERT_TRUE(far);
+  ASSERT_EQ(far->code().size(), 1u);
+  EXPECT_EQ(far->code()[0].op, Op::Patch);
+  // A box on the boundary: shorter, with patches, and the same field. (The
+  // edges whose lines cross the enlarged box stay: interval arithmetic
+  // cannot tell that their R0 nodes' corners lie far away.)
+  const Box edge{Interval(9.5, 10.5), Interval(-0.5, 0.5), Interval(0.0)};
+  const std::optional<Tape> near = specializer.approximate(edge.data(), settings);
+  ASSERT_TRUE(near);
+  EXPECT_LT(near->code().size(), tape.code().size() / 3);
+  std::size_t patches = 0;
+  for (const Instruction& ins : near->code()) patches += ins.op == Op::Patch;
+  EXPECT_GT(patches, 0u);
+  auto rng = test::make_rng(6);
+  for (const Box* box : {&centre, &edge}) {
+    const Tape& part = box == &centre ? *far : *near;
+    Evaluator<Tuple<2, 1>> exact(tape), approximate(part);
+    for (int k = 0; k < 500; ++k) {
+      const test::Point p{test::uniform(rng, (*box)[0].lo, (*box)[0].hi), test::uniform(rng, (*box)[1].lo, (*box)[1].hi),
+                          0};
+      const auto a = exact.at(p), b = approximate.at(p);
+      EXPECT_NEAR(a.value(), b.value(), 4e-9);
+      EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
+      EXPECT_NEAR(a.c[2], b.c[2], 1e-6);
+    }
+  }
+}
+
+TEST(FarFieldApproximation, GridSamplingStaysWithinTheTolerance) {
+  const Expr field = polygon_r0(512);
+  const Tape tape(field, 2);
+  Grid grid;
+  grid.lo = {-12, -12, 0};
+  grid.hi = {12, 12, 0};
+  grid.points = {161, 161, 1};
+  Approximation settings;
+  const double diagonal = 24 * std::sqrt(2.0);
+  settings.tolerance = 1e-10 * diagonal;
+  const FieldSamples approximate = sample_field(tape, grid, 1, {}, &settings);
+  const FieldSamples exact = sample_field(tape, grid, 1);
+  double value = 0, gradient = 0;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    value = std::max(value, std::abs(approximate.omega[i] - exact.omega[i]));
+    for (int a = 0; a < 2; ++a)
+      gradient = std::max(gradient, std::abs(approximate.gradient[3 * i + a] - exact.gradient[3 * i + a]));
+    if (std::abs(exact.omega[i]) > 1e-9 * diagonal) {
+      ASSERT_EQ(approximate.omega[i] > 0, exact.omega[i] > 0) << "point " << i;
+    }
+  }
+  std::printf("far field: max deviation %.2e of the diagonal, gradient %.2e\n", value / diagonal, gradient);
+  EXPECT_LE(value, 1e-9 * diagonal);
+  EXPECT_LE(gradient, 1e-6);
+  EXPECT_GT(value, 0.0) << "patches were used (else this test proves nothing)";
+}
+
+}  // namespace
+}  // namespace sage
