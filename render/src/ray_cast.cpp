@@ -99,20 +99,23 @@ std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, dou
 }
 
 std::optional<double> RayCaster::sphere_trace(const Ray& ray, double t0, double t1) {
+  constexpr int kMaxSteps = 64;
   // Segments of about 1/16 of the ray: short enough for useful bounds.
   const double piece = std::max((t1 - t0) / 16, 4 * leaf_width_);
   for (double a = t0; a < t1; a += piece) {
     const double b = std::min(a + piece, t1);
+    double t = a, v = at(ray, a);
+    if (v >= 0) return t;
     const double lambda = lipschitz_along(ray, a, b);
-    // A bound of 1e6 per unit means steps too short to beat bisection.
-    if (!std::isfinite(lambda) || lambda * (b - a) > 1e6) {
+    // Steps of |v| / lambda would cross the piece in about lambda (b - a) /
+    // |v| of them, more where v shrinks: past kMaxSteps, bisection is
+    // cheaper (and it is the only choice without a finite bound).
+    if (!std::isfinite(lambda) || lambda * (b - a) > kMaxSteps * -v) {
       if (auto hit = bisect_intervals(ray, a, b)) return hit;
       continue;
     }
-    double t = a, v = at(ray, a);
     for (int steps = 0; t < b; ++steps) {
-      if (v >= 0) return t;  // only at a segment start: later points are checked as they are reached
-      if (steps > 2000) {    // creeping along a grazing ray: let intervals decide
+      if (steps > kMaxSteps) {  // creeping along a grazing ray: let intervals decide
         if (auto hit = bisect_intervals(ray, t, b)) return hit;
         break;
       }

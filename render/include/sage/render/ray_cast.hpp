@@ -13,8 +13,10 @@
 //  - Sphere tracing: on each segment the directional derivative d . grad
 //    omega is enclosed by interval evaluation of the symbolic gradient,
 //    which bounds the Lipschitz constant lambda there; steps of |omega| /
-//    lambda cannot cross the surface. Segments whose bound is infinite or
-//    useless fall back to interval bisection. Steps shorter than leaf_width
+//    lambda cannot cross the surface. Segments whose bound is infinite, or
+//    so large that crossing them would take more than 64 steps, fall back
+//    to interval bisection (cheaper there), and so do rays still creeping
+//    after 64 steps. Steps shorter than leaf_width
 //    are taken as leaf_width, so features thinner than that may be missed.
 //
 // Ownership: a RayCaster borrows nothing; it owns its tapes. One
