@@ -6,7 +6,7 @@
 // ball's sphere (to 1e-9); in the transition zone, the first root of the
 // field found by fine point sampling along the ray (to 1e-9). A small
 // picture takes a bounded number of interval evaluations per ray (a count,
-// not a time; the loose intervals took ~1e6 per ray).
+// not a time; the loose intervals took 98,000 per ray on an 8x6 picture).
 
 #include <sage/bounded.hpp>
 #include <sage/primitives.hpp>
