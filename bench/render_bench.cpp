@@ -3,7 +3,9 @@
 // Lipschitz bounds from interval gradients, on 2 threads, for the gallery
 // models (paper 003's primitives and CSG combinations) and for a CSG tree
 // of about 100 nodes (a union of 25 balls and 25 boxes). Prints primary
-// rays per second (no shadows) and the ratio sphere / interval.
+// rays per second (no shadows), the ratio sphere / interval, and interval
+// bisection without tape pruning (the whole tape on every segment) with
+// the speed-up of pruning.
 //
 // Usage: render_bench [WIDTHxHEIGHT] [MODEL.json ...]
 //   (defaults: 320x240, every model in examples/gallery/)
@@ -50,8 +52,9 @@ struct Run {
   long long hits;
 };
 
-Run run(const Scene& s, sage::render::HitMethod method, int width, int height) {
+Run run(const Scene& s, sage::render::HitMethod method, int width, int height, bool prune = true) {
   sage::render::SolidOptions o;
+  o.prune_tapes = prune;
   o.width = width, o.height = height;
   o.camera = sage::render::camera_for_box(s.lo, s.hi);
   o.method = method;
@@ -87,12 +90,16 @@ int main(int argc, char** argv) {
 
   omp_set_num_threads(2);
   std::printf("%dx%d primary rays, 2 threads, default camera of each box\n", width, height);
-  std::printf("%-34s %8s %14s %14s %8s\n", "model", "hits", "interval ray/s", "sphere ray/s", "ratio");
+  std::printf("%-34s %8s %14s %14s %8s %14s %8s\n", "model", "hits", "interval ray/s", "sphere ray/s", "ratio",
+              "unpruned ray/s", "pruning");
   for (const Scene& s : scenes) {
     const Run a = run(s, sage::render::HitMethod::IntervalBisection, width, height);
     const Run b = run(s, sage::render::HitMethod::SphereTracing, width, height);
-    std::printf("%-34s %8lld %14.0f %14.0f %8.2f%s\n", s.name.c_str(), a.hits, a.rays_per_second, b.rays_per_second,
-                b.rays_per_second / a.rays_per_second, a.hits == b.hits ? "" : "  (hit counts differ)");
+    const Run c = run(s, sage::render::HitMethod::IntervalBisection, width, height, false);
+    std::printf("%-34s %8lld %14.0f %14.0f %8.2f %14.0f %8.2f%s\n", s.name.c_str(), a.hits, a.rays_per_second,
+                b.rays_per_second, b.rays_per_second / a.rays_per_second, c.rays_per_second,
+                a.rays_per_second / c.rays_per_second,
+                a.hits == b.hits && a.hits == c.hits ? "" : "  (hit counts differ)");
   }
   return 0;
 }

@@ -48,7 +48,9 @@ struct CastStats {
 
 class RayCaster {
  public:
-  RayCaster(const FieldTapes& tapes, double leaf_width);
+  /// prune: specialize the tape to segments of the ray where that pays
+  /// (min/max trees); the hits are the same bit for bit.
+  RayCaster(const FieldTapes& tapes, double leaf_width, bool prune = true);
 
   /// Distance t in [t0, t1] along the ray of the first point where
   /// omega >= 0, or nothing. t0 itself is returned when omega(t0) >= 0.
@@ -62,10 +64,14 @@ class RayCaster {
   std::optional<double> sphere_trace(const Ray& ray, double t0, double t1);
   /// Root of omega in [a, b], omega(a) < 0 <= omega(b), in doubles.
   double refine(const Ray& ray, double a, double b);
-  Interval range(const Ray& ray, double a, double b);
+  /// omega over the segment, by `pruned` (the evaluator of a tape
+  /// specialized to a box holding the segment) when given.
+  Interval range(const Ray& ray, double a, double b, Evaluator<Interval>* pruned = nullptr);
   double lipschitz_along(const Ray& ray, double a, double b);
   double at(const Ray& ray, double t);
 
+  const Tape* field_;
+  bool specialize_;  // the field's tape has min/max nodes worth pruning
   Evaluator<double> point_;
   Evaluator<Interval> box_;
   Evaluator<Interval> gradient_box_;
