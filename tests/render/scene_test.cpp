@@ -2,8 +2,9 @@
 // (the silhouette of a sphere, orthographic and perspective, within 0.5%
 // of the closed-form area) with both hit methods; normals come out unit
 // and facing the camera (shading brightest where the normal faces the
-// light); tape pruning along rays changes no hit; 2D colour maps draw the zero contour dark and colour inside and
-// outside apart; PNG files round-trip through VTK's reader.
+// light); tape pruning along rays changes no hit; 2D colour maps draw the
+// zero contour dark and colour inside and outside apart; PNG files
+// round-trip through VTK's reader.
 
 #include <sage/primitives.hpp>
 #include <sage/render/scene.hpp>
