@@ -1,5 +1,5 @@
 // sage render MODEL -o OUT.png [--size 800x600] [--camera ...] [--light ...]
-//   [--shadows] [--method interval|sphere] [--bounds ...] [--materials]
+//   [--shadows] [--hit interval|sphere] [--bounds ...] [--materials]
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -10,7 +10,10 @@
 
 #include <boost/program_options.hpp>
 
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
 
 namespace po = boost::program_options;
 
@@ -32,6 +35,15 @@ void parse_size(const std::string& text, int& width, int& height) {
     throw UsageError{"--size: width and height must be 1 to 16384"};
 }
 
+/// Fails before the (possibly long) render if the picture cannot be written.
+void check_output(const std::string& path) {
+  if (path.size() < 4 || path.compare(path.size() - 4, 4, ".png") != 0)
+    throw UsageError{"-o " + path + ": the output must end in .png"};
+  const bool existed = std::filesystem::exists(path);
+  if (!std::ofstream(path, std::ios::app)) throw std::runtime_error(path + ": cannot open the file for writing");
+  if (!existed) std::filesystem::remove(path);
+}
+
 template <class F>
 auto usage_checked(F&& f) {
   try {
@@ -44,7 +56,7 @@ auto usage_checked(F&& f) {
 }  // namespace
 
 int run_render(const std::vector<std::string>& args) {
-  std::string model_path, output_path, size = "800x600", camera, light, method = "interval", bounds, rfunction;
+  std::string model_path, output_path, size = "800x600", camera, light, hit = "interval", bounds, rfunction;
   po::options_description options(
       "Usage: sage render MODEL -o OUT.png [options]\n"
       "3D models: ray casting by interval bisection (or sphere tracing with\n"
@@ -62,7 +74,8 @@ int run_render(const std::vector<std::string>& args) {
   add("light", po::value(&light), "3D: direction towards the light dx,dy,dz (default 0.4,-0.6,0.8)");
   add("shadows", "3D: cast shadows");
   add("materials", "3D: colour each named primitive of a JSON model differently");
-  add("method", po::value(&method), "3D: interval (bisection, default) or sphere (sphere tracing)");
+  add("hit", po::value(&hit),
+      "3D: how rays find the surface: interval (bisection, default) or sphere (sphere tracing)");
   add("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")");
   add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
   add("quiet,q", "no summary");
@@ -74,7 +87,8 @@ int run_render(const std::vector<std::string>& args) {
   finish_source_options(vm, load, where, layer);
   int width = 0, height = 0;
   parse_size(size, width, height);
-  if (method != "interval" && method != "sphere") throw UsageError{"--method: expected interval or sphere"};
+  if (hit != "interval" && hit != "sphere") throw UsageError{"--hit: expected interval or sphere, not \"" + hit + "\""};
+  check_output(output_path);
 
   const geometry::Model model =
       load_model(model_path, vm.count("rfunction") ? std::optional<std::string>(rfunction) : std::nullopt, load);
@@ -94,7 +108,7 @@ int run_render(const std::vector<std::string>& args) {
                                 : render::camera_for_box(box.lo, box.hi);
   if (vm.count("light")) o.light_direction = usage_checked([&] { return render::parse_vec3(light, "--light"); });
   o.shadows = vm.count("shadows") > 0;
-  o.method = method == "sphere" ? render::HitMethod::SphereTracing : render::HitMethod::IntervalBisection;
+  o.method = hit == "sphere" ? render::HitMethod::SphereTracing : render::HitMethod::IntervalBisection;
   if (vm.count("materials"))
     for (const auto& p : model.primitives)
       if (!p.name.empty() && model.named.count(p.name)) o.materials.push_back(model.named.at(p.name));

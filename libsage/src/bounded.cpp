@@ -2,9 +2,13 @@
 #include <sage/evaluator.hpp>
 #include <sage/tape.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sage {
 
@@ -35,7 +39,9 @@ Expr arc_level(const Expr& X, const Expr& Y, double h, double v, bool far_arc) {
 /// The clamped cubic spline (zero end slopes) through (knots[i],
 /// values[i]), minus 1, as an expression of u: 0 outside the knots, where
 /// the profile is 1.
-Expr spline_minus_one(const Expr& u, const std::vector<double>& knots, const std::vector<double>& values) {
+/// Second derivatives of the clamped cubic spline (zero end slopes)
+/// through (knots[i], values[i]).
+std::vector<double> spline_moments(const std::vector<double>& knots, const std::vector<double>& values) {
   const std::size_t n = knots.size();
   std::vector<double> h(n - 1), diag(n), upper(n), rhs(n), M(n);
   for (std::size_t i = 0; i + 1 < n; ++i) h[i] = knots[i + 1] - knots[i];
@@ -56,17 +62,74 @@ Expr spline_minus_one(const Expr& u, const std::vector<double>& knots, const std
   }
   M[n - 1] = rhs[n - 1] / diag[n - 1];
   for (std::size_t i = n - 1; i-- > 0;) M[i] = (rhs[i] - upper[i] * M[i + 1]) / diag[i];
+  return M;
+}
 
-  Expr sum(0.0);
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    const Expr left = u - knots[k], right = knots[k + 1] - u;
-    const Expr piece = M[k] / (6 * h[k]) * pow_int(right, 3) + M[k + 1] / (6 * h[k]) * pow_int(left, 3) +
-                       (values[k] / h[k] - M[k] * h[k] / 6) * right +
-                       (values[k + 1] / h[k] - M[k + 1] * h[k] / 6) * left;
-    // step(0) = 1/2: at a knot the two pieces (equal to second order) are averaged.
-    sum += (step(left) - step(-right)) * (piece - 1.0);
+/// The profile m(u): the spline through (knots[i], values[i]) on
+/// [knots.front(), knots.back()], 1 outside, written in the truncated power
+/// basis, 1 + M0 l^2 / 2 + c l^3 + sum_k d_k max(l - l_k, 0)^3 with l = u
+/// clamped to the knots minus the first knot. It has no steps, so its
+/// intervals shrink with the box everywhere, knots included (selecting
+/// pieces by steps gave [0, 1] weights at every knot at any width). The
+/// end values are 1 with zero slope, so clamping keeps it C1.
+Expr profile_factor(const Expr& u, const std::vector<double>& knots, const std::vector<double>& M) {
+  const std::size_t n = knots.size();
+  std::vector<double> h(n - 1);
+  for (std::size_t i = 0; i + 1 < n; ++i) h[i] = knots[i + 1] - knots[i];
+  const Expr l = min(max(u, Expr(knots[0])), Expr(knots[n - 1])) - knots[0];
+  // The first piece: value 1, slope 0, second derivative M0, third (M1 - M0) / h0.
+  Expr m = 1.0 + (M[0] / 2) * square(l) + ((M[1] - M[0]) / (6 * h[0])) * pow_int(l, 3);
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    // The jump of the third derivative at knot k, over 3!.
+    const double d = ((M[k + 1] - M[k]) / h[k] - (M[k] - M[k - 1]) / h[k - 1]) / 6;
+    m += d * pow_int(max(l - (knots[k] - knots[0]), Expr(0.0)), 3);
   }
-  return sum;
+  return m;
+}
+
+/// Linear bounds of the unprofiled operator, for tight intervals. G is
+/// homogeneous of degree 1 and its level-1 curve is convex, so lines
+/// tangent to the quarter ellipse bound it on one side (exact at the
+/// tangent points) and its chords on the other: for union, max(X, Y,
+/// tangents) <= G <= max(X, Y, chords); for intersection, min(X, Y, chords)
+/// <= G <= min(X, Y, tangents). These are monotone in X and Y, so their
+/// natural interval extensions are exact, whereas the zone steps of G give
+/// [0, 1] wherever X or Y straddles a border (outside the supports X = Y =
+/// 0 up to outward rounding, where G's interval is the whole line). The
+/// coefficients are moved outward by 1e-12 relative to cover their rounding.
+std::pair<Expr, Expr> linear_bounds(const Expr& X, const Expr& Y, double tan1, double cot2, bool is_union) {
+  constexpr int kPieces = 16;
+  // Level-1 arc: union centre (cot2, tan1), semi-axes (1 - cot2, 1 - tan1),
+  // from (1, tan1) to (cot2, 1); intersection centre (1 / tan1, 1 / cot2),
+  // semi-axes (1 / tan1 - 1, 1 / cot2 - 1), from (1 / tan1, 1) to (1, 1 / cot2).
+  auto arc = [&](double phi) -> std::array<double, 2> {
+    if (is_union) return {cot2 + (1 - cot2) * std::cos(phi), tan1 + (1 - tan1) * std::sin(phi)};
+    return {1 / tan1 - (1 / tan1 - 1) * std::sin(phi), 1 / cot2 - (1 / cot2 - 1) * std::cos(phi)};
+  };
+  auto form = [&](double nx, double ny, const std::array<double, 2>& through, double scale) {
+    const double n = nx * through[0] + ny * through[1];
+    return (scale * nx / n) * X + (scale * ny / n) * Y;
+  };
+  const double inner = 1 - 1e-12, outer = 1 + 1e-12;
+  // Union: tangents below G (scaled in), chords above (scaled out);
+  // intersection: chords below, tangents above.
+  const double tangent_scale = is_union ? inner : outer, chord_scale = is_union ? outer : inner;
+  auto pick = [&](const Expr& a, const Expr& b) { return is_union ? max(a, b) : min(a, b); };
+  Expr tangents = pick(X, Y), chords = pick(X, Y);
+  const double a = is_union ? 1 - cot2 : 1 / tan1 - 1, b = is_union ? 1 - tan1 : 1 / cot2 - 1;
+  for (int k = 0; k <= kPieces; ++k) {
+    const double phi = k * M_PI / (2 * kPieces);
+    const auto p = arc(phi);
+    // Normal of the ellipse at p (positive components).
+    const double nx = is_union ? b * std::cos(phi) : b * std::sin(phi),
+                 ny = is_union ? a * std::sin(phi) : a * std::cos(phi);
+    if (k > 0 && k < kPieces) tangents = pick(tangents, form(nx, ny, p, tangent_scale));
+    if (k < kPieces) {
+      const auto q = arc((k + 1) * M_PI / (2 * kPieces));
+      chords = pick(chords, form(q[1] - p[1], p[0] - q[0], p, chord_scale));
+    }
+  }
+  return is_union ? std::make_pair(tangents, chords) : std::make_pair(chords, tangents);
 }
 
 }  // namespace
@@ -88,7 +151,11 @@ Expr bounded_compose(BoundedOp op, const Expr& f1, const Expr& f2, const Bounded
   const Expr between = 1.0 - below - above;
   const Expr arc = is_union ? arc_level(X, Y, cot2, tan1, true) : arc_level(X, Y, 1 / tan1, 1 / cot2, false);
   const Expr straight = is_union ? below * X + above * Y : below * Y + above * X;
-  if (tr.profile_points.empty()) return straight + between * arc;
+  const auto [lower, upper] = linear_bounds(X, Y, tan1, cot2, is_union);
+  // Pointwise G itself (the bounds hold, and touch it only where they are
+  // tangent to it); over intervals, no wider than the bounds.
+  auto tightened = [&](const Expr& g, const Expr& lo, const Expr& hi) { return min(max(g, lo), hi); };
+  if (tr.profile_points.empty()) return tightened(straight + between * arc, lower, upper);
 
   // Profile knots in u = Y / (X + Y), from the control points.
   const Tape tape(std::vector<Expr>{X, Y, straight + between * arc}, dimension);
@@ -110,7 +177,8 @@ Expr bounded_compose(BoundedOp op, const Expr& f1, const Expr& f2, const Bounded
   knots.push_back(u2);
   values.push_back(1.0);
   const Expr u = div_safe(Y, X + Y);
-  return straight + between * arc * (1.0 + spline_minus_one(u, knots, values));
+  // G = G0 m(u): m = 1 outside the transition zone, where G0 is X or Y.
+  return tightened(straight + between * arc, lower, upper) * profile_factor(u, knots, spline_moments(knots, values));
 }
 
 }  // namespace sage

@@ -1,17 +1,24 @@
 #include <sage/derivative.hpp>
 #include <sage/render/ray_cast.hpp>
+#include <sage/tape_specialization.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace sage::render {
 
 FieldTapes::FieldTapes(const Expr& omega) : field(omega, 3), gradient(sage::gradient(omega, 3), 3) {}
 
-RayCaster::RayCaster(const FieldTapes& tapes, double leaf_width)
-    : point_(tapes.field), box_(tapes.field), gradient_box_(tapes.gradient), leaf_width_(leaf_width) {}
+RayCaster::RayCaster(const FieldTapes& tapes, double leaf_width, bool prune)
+    : field_(&tapes.field),
+      specialize_(prune && TapeSpecializer::worthwhile(tapes.field)),
+      point_(tapes.field),
+      box_(tapes.field),
+      gradient_box_(tapes.gradient),
+      leaf_width_(leaf_width) {}
 
 double RayCaster::value(const Vec3& p) {
   ++stats_.point_evaluations;
@@ -28,12 +35,13 @@ void segment_box(const Ray& ray, double a, double b, Interval box[3]) {
 }
 }  // namespace
 
-Interval RayCaster::range(const Ray& ray, double a, double b) {
+Interval RayCaster::range(const Ray& ray, double a, double b, Evaluator<Interval>* pruned) {
   ++stats_.interval_evaluations;
   Interval box[3];
   segment_box(ray, a, b, box);
-  box_.evaluate_with(box);
-  return box_.result();
+  Evaluator<Interval>& e = pruned ? *pruned : box_;
+  e.evaluate_with(box);
+  return e.result();
 }
 
 double RayCaster::lipschitz_along(const Ray& ray, double a, double b) {
@@ -65,10 +73,25 @@ std::optional<double> RayCaster::first_hit(const Ray& ray, double t0, double t1,
 }
 
 std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, double t1) {
+  // Large min/max trees: every few levels the segment's tape is
+  // specialized to the segment's box (tape_specialization.hpp), so deeper
+  // levels evaluate only the primitives near the segment. The numbers are
+  // the same bit for bit.
+  constexpr int kSpecializeEvery = 3;
   struct Segment {
     double a, b;
+    int tape;  // index into tapes: 0 the whole field
+    int depth;
   };
-  std::vector<Segment> stack{{t0, t1}};
+  struct Pruned {
+    const Tape* tape;
+    std::unique_ptr<Tape> owned;
+    std::unique_ptr<TapeSpecializer> specializer;
+    std::unique_ptr<Evaluator<Interval>> eval;
+  };
+  std::vector<Pruned> tapes;
+  if (specialize_) tapes.push_back({field_, nullptr, nullptr});
+  std::vector<Segment> stack{{t0, t1, 0, 0}};
   // A leaf that may hold the surface without a sign change at its ends. It
   // is often only the overestimation next to a crossing in the following
   // leaf, so it is returned only if no crossing follows right after it.
@@ -78,12 +101,36 @@ std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, dou
     const Segment s = stack.back();
     stack.pop_back();
     if (candidate && s.a > candidate_end) return candidate;
-    const Interval f = range(ray, s.a, s.b);
+    int child_tape = s.tape;
+    Interval f;
+    if (specialize_ && s.depth % kSpecializeEvery == 0 && tapes[s.tape].tape->code().size() > 16) {
+      ++stats_.interval_evaluations;
+      Interval box[3];
+      segment_box(ray, s.a, s.b, box);
+      Pruned& p = tapes[s.tape];
+      if (!p.specializer) p.specializer = std::make_unique<TapeSpecializer>(*p.tape);
+      std::optional<Tape> smaller = p.specializer->specialize(box);
+      f = p.specializer->result();
+      if (smaller && !(!f.is_nan() && f.hi < 0)) {
+        auto owned = std::make_unique<Tape>(std::move(*smaller));
+        const Tape* raw = owned.get();
+        tapes.push_back({raw, std::move(owned), nullptr});
+        child_tape = static_cast<int>(tapes.size()) - 1;
+      }
+    } else {
+      Evaluator<Interval>* eval = nullptr;
+      if (specialize_ && s.tape > 0) {
+        Pruned& p = tapes[s.tape];
+        if (!p.eval) p.eval = std::make_unique<Evaluator<Interval>>(*p.tape);
+        eval = p.eval.get();
+      }
+      f = range(ray, s.a, s.b, eval);
+    }
     if (!f.is_nan() && f.hi < 0) continue;  // proved empty: omega < 0 on the whole segment
     if (s.b - s.a > leaf_width_) {
       const double m = 0.5 * (s.a + s.b);
-      stack.push_back({m, s.b});
-      stack.push_back({s.a, m});  // nearer half first
+      stack.push_back({m, s.b, child_tape, s.depth + 1});
+      stack.push_back({s.a, m, child_tape, s.depth + 1});  // nearer half first
       continue;
     }
     const double fa = at(ray, s.a), fb = at(ray, s.b);
@@ -99,20 +146,23 @@ std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, dou
 }
 
 std::optional<double> RayCaster::sphere_trace(const Ray& ray, double t0, double t1) {
+  constexpr int kMaxSteps = 64;
   // Segments of about 1/16 of the ray: short enough for useful bounds.
   const double piece = std::max((t1 - t0) / 16, 4 * leaf_width_);
   for (double a = t0; a < t1; a += piece) {
     const double b = std::min(a + piece, t1);
+    double t = a, v = at(ray, a);
+    if (v >= 0) return t;
     const double lambda = lipschitz_along(ray, a, b);
-    // A bound of 1e6 per unit means steps too short to beat bisection.
-    if (!std::isfinite(lambda) || lambda * (b - a) > 1e6) {
+    // Steps of |v| / lambda would cross the piece in about lambda (b - a) /
+    // |v| of them, more where v shrinks: past kMaxSteps, bisection is
+    // cheaper (and it is the only choice without a finite bound).
+    if (!std::isfinite(lambda) || lambda * (b - a) > kMaxSteps * -v) {
       if (auto hit = bisect_intervals(ray, a, b)) return hit;
       continue;
     }
-    double t = a, v = at(ray, a);
     for (int steps = 0; t < b; ++steps) {
-      if (v >= 0) return t;  // only at a segment start: later points are checked as they are reached
-      if (steps > 2000) {    // creeping along a grazing ray: let intervals decide
+      if (steps > kMaxSteps) {  // creeping along a grazing ray: let intervals decide
         if (auto hit = bisect_intervals(ray, t, b)) return hit;
         break;
       }

@@ -25,7 +25,8 @@ Vec3 background(double py, int height) {
 
 /// Per-thread state: evaluators are not thread-safe.
 struct Shader {
-  Shader(const FieldTapes& tapes, const Tape* materials, double leaf) : caster(tapes, leaf), normal_eval(tapes.field) {
+  Shader(const FieldTapes& tapes, const Tape* materials, double leaf, bool prune)
+      : caster(tapes, leaf, prune), normal_eval(tapes.field) {
     if (materials) material_eval.emplace(*materials);
   }
   RayCaster caster;
@@ -55,7 +56,7 @@ SolidPicture render_solid(const Expr& field, const Vec3& box_min, const Vec3& bo
 
 #pragma omp parallel reduction(+ : hits, rays, interval_evals, point_evals)
   {
-    Shader sh(tapes, material_tape ? &*material_tape : nullptr, leaf);
+    Shader sh(tapes, material_tape ? &*material_tape : nullptr, leaf, o.prune_tapes);
 #pragma omp for schedule(dynamic, 2)
     for (int py = 0; py < o.height; ++py) {
       for (int px = 0; px < o.width; ++px) {

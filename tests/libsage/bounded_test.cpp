@@ -178,6 +178,49 @@ TEST(Bounded, OperatorsStayBetweenTheirArgumentsAndIntervalsEncloseThem) {
   }
 }
 
+TEST(Bounded, IntervalsShrinkWithTheBoxOnZoneBordersAndAtTheOrigin) {
+  // The zone steps alone give [0, 1] weights on a border at any width, and
+  // the whole line next to X = Y = 0; with the linear bounds and the
+  // step-free profile of bounded.cpp the enclosure shrinks like the box:
+  // width <= K w, with K about the same for w = 1e-3 and 1e-6 (no floor), and
+  // K < 4 without a profile.
+  BoundedTransition profiled = transition(15, 70);
+  profiled.profile_points = {{0.5, 0.4, 0}, {0.45, 0.6, 0}};
+  double worst_plain = 0, worst_profiled = 0;
+  for (const BoundedTransition& tr : {transition(15, 70), profiled})
+    for (BoundedOp op : kOps) {
+      if (op != BoundedOp::Union && !tr.profile_points.empty()) continue;  // the points are set for union
+      const Tape tape(plane_operator(op, tr), 2);
+      Evaluator<Interval> boxes(tape);
+      for (double theta : {tr.theta1, tr.theta2, M_PI / 4})
+        for (double r : {0.1, 0.5, 0.9}) {
+          const double x = r * std::cos(theta), y = r * std::sin(theta);
+          // Difference sees Y = 2C - f2: put the box where that Y lies on the border.
+          const double f2 = op == BoundedOp::Difference ? 2 * tr.iso - y : y;
+          double ratio[2];
+          for (int i = 0; i < 2; ++i) {
+            const double w = i == 0 ? 1e-3 : 1e-6;
+            Interval box[2] = {{x - w / 2, x + w / 2}, {f2 - w / 2, f2 + w / 2}};
+            boxes.evaluate_with(box);
+            ratio[i] = boxes.result().width() / w;
+          }
+          // A floor (width not shrinking) would make ratio[1] about 1000 ratio[0].
+          EXPECT_LT(ratio[1], 4 * ratio[0] + 2) << "theta " << theta << ", r " << r;
+          (tr.profile_points.empty() ? worst_plain : worst_profiled) =
+              std::max(tr.profile_points.empty() ? worst_plain : worst_profiled, std::max(ratio[0], ratio[1]));
+        }
+      // Next to the origin: outside both supports, up to outward rounding.
+      if (op != BoundedOp::Difference) {
+        Interval tiny[2] = {{-1e-300, 1e-300}, {-1e-300, 1e-300}};
+        boxes.evaluate_with(tiny);
+        EXPECT_LT(boxes.result().width(), 1e-290);
+      }
+    }
+  std::cout << "[ bounded operators ] largest enclosure width / box width near zone borders: " << worst_plain
+            << " (with a profile: " << worst_profiled << ")\n";
+  EXPECT_LT(worst_plain, 4.0);
+}
+
 TEST(Bounded, BadParametersAreRejected) {
   EXPECT_THROW(plane_operator(BoundedOp::Union, transition(0, 60)), std::invalid_argument);
   EXPECT_THROW(plane_operator(BoundedOp::Union, transition(30, 45)), std::invalid_argument);

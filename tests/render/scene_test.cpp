@@ -2,8 +2,9 @@
 // (the silhouette of a sphere, orthographic and perspective, within 0.5%
 // of the closed-form area) with both hit methods; normals come out unit
 // and facing the camera (shading brightest where the normal faces the
-// light); 2D colour maps draw the zero contour dark and colour inside and
-// outside apart; PNG files round-trip through VTK's reader.
+// light); tape pruning along rays changes no hit; 2D colour maps draw the
+// zero contour dark and colour inside and outside apart; PNG files
+// round-trip through VTK's reader.
 
 #include <sage/primitives.hpp>
 #include <sage/render/scene.hpp>
@@ -86,6 +87,22 @@ TEST(Scene, ShadingIsBrightestWhereTheNormalFacesTheLight) {
   o.light_direction = {1, 0, 1};  // the shadow falls around (-1, 0) on the floor z = -0.5
   const SolidPicture oblique = render_solid(scene, {-1, -1, -1}, {1, 1, 1}, o);
   EXPECT_LT(oblique.image.pixel(8, 32)[0] + 40, oblique.image.pixel(8, 5)[0]) << "floor in shadow vs lit floor";
+}
+
+TEST(Scene, PrunedTapesGiveTheSameHitsBitForBit) {
+  // A union of 24 balls: a tape worth specializing to ray segments.
+  Expr scene = ball({-1.1, -1.1, 0}, 0.3, 3);
+  for (int i = 1; i < 24; ++i)
+    scene = max(scene, ball({-1.1 + 0.45 * (i % 6), -1.1 + 0.7 * (i / 6), 0.2 * std::sin(i)}, 0.3, 3));
+  SolidOptions o;
+  o.width = 48, o.height = 36;
+  o.camera = camera_for_box({-1.5, -1.5, -0.6}, {1.5, 1.5, 0.6});
+  const SolidPicture pruned = render_solid(scene, {-1.5, -1.5, -0.6}, {1.5, 1.5, 0.6}, o);
+  o.prune_tapes = false;
+  const SolidPicture whole = render_solid(scene, {-1.5, -1.5, -0.6}, {1.5, 1.5, 0.6}, o);
+  EXPECT_GT(pruned.stats.hits, 200);
+  EXPECT_EQ(pruned.stats.hits, whole.stats.hits);
+  for (std::size_t i = 0; i < pruned.depth.size(); ++i) ASSERT_EQ(pruned.depth[i], whole.depth[i]) << "pixel " << i;
 }
 
 TEST(Scene, MapDrawsTheZeroContourDarkAndSidesApart) {

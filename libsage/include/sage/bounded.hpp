@@ -30,6 +30,17 @@
 // surface passes through every p_i. m is a function of
 // u = Y / (X + Y) = tan(theta) / (1 + tan(theta)), a monotone function of
 // theta, which needs no arctangent.
+//
+// Intervals: the zone steps give [0, 1] weights wherever a box straddles
+// a border, and outside both supports (X = Y = 0, widened by outward
+// rounding) the arc's quotient is the whole line; the loose enclosure made
+// ray casting visit every leaf along every ray. So G is clamped between
+// linear bounds that are exact over boxes: lines tangent to the level
+// curve on one side and its chords on the other (16 each). Pointwise the
+// clamp changes nothing (the bounds touch G only where they are tangent
+// to it); over a box the enclosure is at most the bounds' range, which
+// shrinks with the box. The profile is written without steps, in the
+// truncated power basis, for the same reason.
 
 #include <sage/expression.hpp>
 #include <sage/primitives.hpp>

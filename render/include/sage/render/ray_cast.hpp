@@ -13,8 +13,10 @@
 //  - Sphere tracing: on each segment the directional derivative d . grad
 //    omega is enclosed by interval evaluation of the symbolic gradient,
 //    which bounds the Lipschitz constant lambda there; steps of |omega| /
-//    lambda cannot cross the surface. Segments whose bound is infinite or
-//    useless fall back to interval bisection. Steps shorter than leaf_width
+//    lambda cannot cross the surface. Segments whose bound is infinite, or
+//    so large that crossing them would take more than 64 steps, fall back
+//    to interval bisection (cheaper there), and so do rays still creeping
+//    after 64 steps. Steps shorter than leaf_width
 //    are taken as leaf_width, so features thinner than that may be missed.
 //
 // Ownership: a RayCaster borrows nothing; it owns its tapes. One
@@ -46,7 +48,9 @@ struct CastStats {
 
 class RayCaster {
  public:
-  RayCaster(const FieldTapes& tapes, double leaf_width);
+  /// prune: specialize the tape to segments of the ray where that pays
+  /// (min/max trees); the hits are the same bit for bit.
+  RayCaster(const FieldTapes& tapes, double leaf_width, bool prune = true);
 
   /// Distance t in [t0, t1] along the ray of the first point where
   /// omega >= 0, or nothing. t0 itself is returned when omega(t0) >= 0.
@@ -60,10 +64,14 @@ class RayCaster {
   std::optional<double> sphere_trace(const Ray& ray, double t0, double t1);
   /// Root of omega in [a, b], omega(a) < 0 <= omega(b), in doubles.
   double refine(const Ray& ray, double a, double b);
-  Interval range(const Ray& ray, double a, double b);
+  /// omega over the segment, by `pruned` (the evaluator of a tape
+  /// specialized to a box holding the segment) when given.
+  Interval range(const Ray& ray, double a, double b, Evaluator<Interval>* pruned = nullptr);
   double lipschitz_along(const Ray& ray, double a, double b);
   double at(const Ray& ray, double t);
 
+  const Tape* field_;
+  bool specialize_;  // the field's tape has min/max nodes worth pruning
   Evaluator<double> point_;
   Evaluator<Interval> box_;
   Evaluator<Interval> gradient_box_;

@@ -25,6 +25,9 @@ struct SolidOptions {
   Vec3 light_direction{0.4, -0.6, 0.8};  // towards the light
   bool shadows = false;
   HitMethod method = HitMethod::IntervalBisection;
+  /// Interval bisection specializes the tape to ray segments (min/max
+  /// trees); false for the baseline of benchmarks.
+  bool prune_tapes = true;
   /// Leaf width of interval bisection, relative to the box diagonal.
   double relative_leaf_width = 1e-6;
   /// Primitive fields (omega_i): a hit takes the colour of the primitive
