@@ -97,34 +97,8 @@ TEST(PoissonConvergence, LShapeSingularSolution) {
   EXPECT_GE(h1_rate, 2.0 / 3.0 - 0.15);
 }
 
-TEST(PoissonConvergence, SquareWithRobinHole) {
-  // Dirichlet u = 0 on the square (-1,1)^2, Robin k du/dn + u = h on the
-  // hole r = 0.4, weakly. The Dirichlet part is selected by the product
-  // weight (1 - x^2)(1 - y^2) / 2: at convex corners an R-function weight
-  // behaves like a + b - |(a, b)|, and u / omega_D would not be smooth there.
-  const RSystem r0 = RSystem::r0();
-  const Expr x = Expr::x(), y = Expr::y();
-  const Expr hole = ball({0, 0, 0}, 0.4, 2);
-  PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
-  const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
-  problem.exact = exact;
-  problem.source = manufactured_source(exact, problem.conductivity, 2);
-  const Expr outward_flux = -(x * derivative(exact, 0) + y * derivative(exact, 1)) / 0.4;  // n = -(x, y) / r
-  const BoundaryPart outer{"outer", (1.0 - square(x)) * (1.0 - square(y)) * 0.5, BoundaryKind::Dirichlet, 0.0};
-  const BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, 1.0, outward_flux + exact};
-  problem.parts = {outer, robin};
-  problem.rest = robin;
-  SolverOptions options;
-  options.degree = 2;
-  options.estimate_condition = false;
-  expect_rates(refine<2>(problem, options, {0.2, 0.1, 0.05}), 3 - 0.3, 2 - 0.3);
-  options.degree = 3;
-  expect_rates(refine<2>(problem, options, {0.2, 0.1, 0.05}), 4 - 0.3, 3 - 0.3);
-}
+// The square with a Robin hole (weak and structure routes side by side):
+// robin_structure_test.cpp.
 
 Expr ball_solution(const std::array<Expr, 3>& p) { return sin(kPi * p[0]) * sin(kPi * p[1]) * sin(kPi * p[2]) + p[0]; }
 

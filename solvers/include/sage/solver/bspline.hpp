@@ -19,30 +19,30 @@ namespace sage::solver {
 
 constexpr int kMaxDegree = 5;
 
-/// Values and first derivatives (per unit t) of the degree + 1 splines
-/// nonzero on a cell, at local coordinate t in [0, 1]. 0 <= degree <= kMaxDegree.
-inline void bspline_on_cell(int degree, double t, double* values, double* derivatives) {
-  std::array<double, kMaxDegree + 2> previous{};
-  std::array<double, kMaxDegree + 2> current{};
-  current[0] = 1.0;
-  for (int d = 1; d <= degree; ++d) {
-    previous = current;
-    for (int j = 0; j <= d; ++j) {
-      const double left = j > 0 ? previous[j - 1] : 0.0;  // B_{d-1}(x), starts one cell earlier
-      const double right = j < d ? previous[j] : 0.0;     // B_{d-1}(x - 1)
-      current[j] = ((t + d - j) * left + (1.0 - t + j) * right) / d;
-    }
-  }
+/// Values, first and (when `second_derivatives` is not null) second
+/// derivatives (per unit t) of the degree + 1 splines nonzero on a cell, at
+/// local coordinate t in [0, 1]. 0 <= degree <= kMaxDegree. Second
+/// derivatives: B_d'' = B_{d-2}(x) - 2 B_{d-2}(x - 1) + B_{d-2}(x - 2).
+inline void bspline_on_cell(int degree, double t, double* values, double* derivatives, double* second_derivatives) {
+  // level[d][j]: degree-d spline j of the cell (spline c + j), j = 0..d.
+  std::array<std::array<double, kMaxDegree + 1>, kMaxDegree + 1> level{};
+  level[0][0] = 1.0;
+  auto at = [&](int d, int j) { return d >= 0 && j >= 0 && j <= d ? level[d][j] : 0.0; };
+  for (int d = 1; d <= degree; ++d)
+    for (int j = 0; j <= d; ++j)  // at(d-1, j-1) starts one cell earlier than at(d-1, j)
+      level[d][j] = ((t + d - j) * at(d - 1, j - 1) + (1.0 - t + j) * at(d - 1, j)) / d;
   for (int j = 0; j <= degree; ++j) {
-    values[j] = current[j];
-    if (degree == 0) {
-      derivatives[j] = 0.0;
-    } else {
-      const double left = j > 0 ? previous[j - 1] : 0.0;
-      const double right = j < degree ? previous[j] : 0.0;
-      derivatives[j] = left - right;
-    }
+    values[j] = level[degree][j];
+    derivatives[j] = degree == 0 ? 0.0 : at(degree - 1, j - 1) - at(degree - 1, j);
+    if (second_derivatives)
+      second_derivatives[j] =
+          degree < 2 ? 0.0 : at(degree - 2, j - 2) - 2.0 * at(degree - 2, j - 1) + at(degree - 2, j);
   }
+}
+
+/// Values and first derivatives only.
+inline void bspline_on_cell(int degree, double t, double* values, double* derivatives) {
+  bspline_on_cell(degree, t, values, derivatives, nullptr);
 }
 
 }  // namespace sage::solver
