@@ -79,6 +79,34 @@ TEST(CliSolve, NamedPartsWithWeakConditions) {
   EXPECT_GT(fs::file_size(points), 0u);
 }
 
+TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
+  const std::string boundary =
+      R"({ "rim": { "type": "dirichlet", "value": 0 }, "hole": { "type": "robin", "beta": 2, "flux": "x" },
+           "default": { "type": "robin", "beta": 2, "flux": "x" } })";
+  const std::string plain = disk_problem("solve_structure.json", boundary);
+  Result r = run("solve " + plain + " -o " + scratch("structure.vtu").string() +
+                 " --degree 2 --cells 16 --no-condition --robin structure");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
+  const std::string keyed = disk_problem("solve_structure_key.json", boundary, R"(, "robin": "structure")");
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --no-condition");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --robin weak");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("weak Robin/Neumann route"), std::string::npos) << r.output;  // the flag wins
+  // Degree 1 has no second derivatives: a clear error naming the file.
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 1 --cells 16");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("degree 2 or more"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(keyed), std::string::npos) << r.output;
+  const std::string bad = disk_problem("solve_structure_bad.json", boundary, R"(, "robin": "sideways")");
+  r = run("solve " + bad + " -o " + scratch("structure.vtu").string() + " --cells 8");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("/robin"), std::string::npos) << r.output;
+  EXPECT_EQ(run("solve " + plain + " -o " + scratch("x.vtu").string() + " --robin strong").exit_code, 2);
+}
+
 TEST(CliSolve, PlateExampleRuns) {
   const Result r = run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() +
                        " --degree 2 --cells 24 --no-condition");
