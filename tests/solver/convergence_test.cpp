@@ -163,6 +163,29 @@ TEST(PoissonPatchTest, BallWithRobinReproducesAQuadratic) {
   EXPECT_GT(*solve_poisson<3>(problem, options).report.l2_error, 1e-4);
 }
 
+TEST(PoissonPatchTest, NeumannEdgeOnTheGridLattice) {
+  // The square (-1,1)^2 with h = 0.1: its edges lie on cell faces, where
+  // omega = 0 exactly at the ends of the quadrature lines. The Neumann edge
+  // x = 1 must still get its surface points (it once got none, and the
+  // condition silently became du/dn = 0: L2 error 0.12). The Dirichlet
+  // extension is u itself, so what is left is the weak term's accuracy.
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr exact = sin(x + 0.3) * cos(y);
+  PoissonProblem problem =
+      dirichlet_problem(2, box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0()), exact, exact, {-1, -1, 0}, {1, 1, 0});
+  problem.parts = {{"others", (1.0 + x) * (1.0 - square(y)), BoundaryKind::Dirichlet, exact},
+                   {"right", 1.0 - x, BoundaryKind::Neumann, 0.0, 0.0, derivative(exact, 0)}};
+  problem.rest = problem.parts[1];
+  SolverOptions options;
+  options.degree = 2;
+  options.cell_width = 0.1;
+  options.estimate_condition = false;
+  const SolveReport report = solve_poisson<2>(problem, options).report;
+  std::printf("  h = 0.1 on the lattice: %zu surface points, L2 %.3e\n", report.surface_points, *report.l2_error);
+  EXPECT_GT(report.surface_points, 0u);
+  EXPECT_LT(*report.l2_error, 1e-7);
+}
+
 TEST(PoissonProblemErrors, PureNeumannIsRefused) {
   PoissonProblem problem = disk_problem();
   problem.dirichlet_extension.reset();
