@@ -368,6 +368,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const std::size_t relevant = basis.relevant.size();
   std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
   std::vector<double> load(relevant, 0.0);
+  // Pure Neumann: (v_i, 1) per relevant spline, and (|f|, 1) + <|h|, 1>.
+  const bool pure_neumann = structure.pure_neumann;
+  std::vector<double> mean_load(pure_neumann ? relevant : 0, 0.0);
+  double data_size = 0.0;
   const int local_count = grid.local_count();
   // Band position of the pair (j, l) of local splines: their offset
   // difference, numbered in the (2n + 1)^D stencil.
@@ -392,7 +396,9 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     Eigen::VectorXd rhs(local_count), trial_values(local_count);
     std::vector<long long> rows(static_cast<std::size_t>(local_count));
     // Each thread adds into its own band (no atomics); summed below.
-    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0);
+    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
+    Eigen::VectorXd mean_rhs(local_count);
+    double own_data_size = 0.0;
 #pragma omp for schedule(dynamic, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto& points = volume[k];
@@ -400,6 +406,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       const auto cell = grid.cell_index(candidates[k]);
       gradients.resize(local_count, static_cast<Eigen::Index>(points.size() * D));
       rhs.setZero();
+      mean_rhs.setZero();
       for (std::size_t p = 0; p < points.size() && structured; ++p) {
         const auto& q = points[p];
         structure_eval.evaluate(q.x.data());
@@ -417,6 +424,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
           trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
                           Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
         rhs += (q.weight * source) * trial_values;
+        if (pure_neumann) {
+          mean_rhs += q.weight * trial_values;
+          own_data_size += q.weight * std::abs(source);
+        }
         for (int a = 0; a < D; ++a) {
           auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
           column =
@@ -445,6 +456,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         // grad v_j = B_j grad w + w grad B_j (contiguous, vectorizable).
         const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
         rhs += (q.weight * source * w.value()) * values;
+        if (pure_neumann) {
+          mean_rhs += (q.weight * w.value()) * values;
+          own_data_size += q.weight * std::abs(source);
+        }
         for (int a = 0; a < D; ++a) {
           const Eigen::Map<const Eigen::VectorXd> slopes(local.gradient[a].data(), local_count);
           auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
@@ -466,6 +481,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         for (int b = 0; b < D && structured; ++b)  // transport vanishes on the boundary up to round-off
           trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
                           Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+        own_data_size += pure_neumann ? s.weight * std::abs(data.flux) : 0.0;
         for (int j = 0; j < local_count; ++j) {
           const double vj = trial_values[j];
           rhs[j] += s.weight * (data.flux - data.beta * g) * vj;
@@ -477,6 +493,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
       for (int j = 0; j < local_count; ++j) {
         own_load[static_cast<std::size_t>(rows[j])] += rhs[j];
+        if (pure_neumann) own_mean[static_cast<std::size_t>(rows[j])] += mean_rhs[j];
         double* row = own_band.data() + static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
                       stencil_centre - stencil_of_local[j];
         for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += j >= l ? stiffness(j, l) : stiffness(l, j);
@@ -486,6 +503,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     {
       for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
+      for (std::size_t i = 0; i < mean_load.size(); ++i) mean_load[i] += own_mean[i];
+      data_size += own_data_size;
     }
   }
   std::vector<Eigen::Triplet<double>> entries;
@@ -508,9 +527,26 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   spline_matrix.setFromTriplets(entries.begin(), entries.end());
   entries = {};
   const Eigen::SparseMatrix<double> E = basis.extension;
-  const Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
-  const Eigen::VectorXd right =
+  Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
+  Eigen::VectorXd right =
       E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
+  Eigen::VectorXd mean_row;  // (v_i, 1) per unknown, pure Neumann only
+  if (pure_neumann) {
+    mean_row = E.transpose() * Eigen::Map<const Eigen::VectorXd>(mean_load.data(), static_cast<Eigen::Index>(relevant));
+    const double total = right.sum();  // (f, 1) + <h, 1>: the test function 1 is the vector of ones
+    const double defect = std::abs(total) / std::max(data_size, std::numeric_limits<double>::min());
+    report.neumann_compatibility = defect;
+    if (data_size > 0.0 && defect > kNeumannCompatibilityTolerance)
+      throw std::invalid_argument(
+          "incompatible Neumann data: a pure Neumann problem needs (integral of f over the domain) + (integral of h "
+          "over the boundary) = 0, but it is " +
+          std::to_string(total) + " (relative to the integrals of |f| and |h|: " + std::to_string(defect) +
+          "); fix the data or give a part a Dirichlet or Robin condition");
+    right -= (total / mean_row.sum()) * mean_row;
+    Eigen::Index pinned = 0;
+    system.diagonal().maxCoeff(&pinned);
+    system.coeffRef(pinned, pinned) *= 2.0;
+  }
   report.nonzeros = static_cast<std::size_t>(system.nonZeros());
   timer.lap(&StageSeconds::assembly);
 
@@ -535,6 +571,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
+  if (pure_neumann) coefficients.array() -= mean_row.dot(coefficients) / mean_row.sum();  // zero mean
   solution.spline_coefficients = E * coefficients;
   timer.lap(&StageSeconds::solve);
 

@@ -107,6 +107,16 @@ TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
   EXPECT_EQ(run("solve " + plain + " -o " + scratch("x.vtu").string() + " --robin strong").exit_code, 2);
 }
 
+TEST(CliSolve, CompatiblePureNeumannIsSolved) {
+  // f = 1 on the disk minus the hole (area 0.91 pi) balances h = -0.5 on the
+  // rim (length 2 pi) and h = 0.15 on the hole (length 0.6 pi).
+  const std::string problem = disk_problem("solve_neumann.json", R"({ "rim": { "type": "neumann", "flux": -0.5 },
+      "hole": { "type": "neumann", "flux": 0.15 }, "default": { "type": "neumann" } })");
+  const Result r = run("solve " + problem + " -o " + scratch("neumann.vtu").string() + " --degree 2 --cells 16");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("pure Neumann: compatibility defect"), std::string::npos) << r.output;
+}
+
 TEST(CliSolve, PlateExampleRuns) {
   const Result r = run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() +
                        " --degree 2 --cells 24 --no-condition");
@@ -133,7 +143,7 @@ TEST(CliSolve, BadInputNamesFileAndPlace) {
       {R"({ "lid": { "type": "dirichlet" } })", "", "unknown boundary part 'lid'"},
       {R"({ "rim": { "type": "dirichlet" }, "hole": { "type": "neumann" } })", "",
        "the default boundary condition must not be Dirichlet"},
-      {R"({ "default": { "type": "neumann" } })", "", "pure Neumann"},
+      {R"({ "default": { "type": "neumann" } })", "", "incompatible Neumann data"},  // f = 1, h = 0
       {R"({ "rim": { "type": "wall" } })", "", "/boundary/rim/type"},
       {R"({ "rim": { "type": "robin" } })", "", "needs \"beta\""},
       {R"({ "rim": { "type": "dirichlet", "value": "x +* 2" } })", "", "/boundary/rim/value"},

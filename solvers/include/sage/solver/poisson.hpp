@@ -20,9 +20,16 @@
 // and Robin conditions of the named parts identically; the equations are
 // the same (the boundary integrals stay: they are the variational form).
 //
-// Pure Neumann problems (no Dirichlet part, no Robin part) are refused: u is
-// then determined only up to a constant and this solver does not add the
-// constraint.
+// Pure Neumann problems (no Dirichlet part, beta = 0 on every part): u is
+// then fixed only up to a constant. The data must be compatible,
+// (f, 1) + <h, 1> = 0 to quadrature accuracy (else std::invalid_argument);
+// the remaining quadrature-level discrepancy is removed from the load
+// (as if f were shifted by a constant), one unknown's diagonal is doubled
+// (which makes the matrix definite and, for compatible data, pins that
+// unknown to 0 without changing the solution), and the constant is then
+// fixed by zero mean, (u, 1) = 0. The constant function is the coefficient
+// vector of ones in both bases (partition of unity; the WEB extension
+// keeps constants).
 
 #include <sage/evaluator.hpp>
 #include <sage/solver/domain_quadrature.hpp>
@@ -85,7 +92,12 @@ struct SolveReport {
   /// Relative errors when the problem has an exact solution: L2 and the H1
   /// seminorm (|u - u_h|_1 / |u|_1).
   std::optional<double> l2_error, h1_error;
+  /// Pure Neumann problems: |(f, 1) + <h, 1>| / ((|f|, 1) + <|h|, 1>).
+  std::optional<double> neumann_compatibility;
 };
+
+/// Largest relative compatibility defect accepted for pure Neumann data.
+constexpr double kNeumannCompatibilityTolerance = 1e-6;
 
 template <int D>
 class PoissonSolution {
