@@ -491,12 +491,15 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       }
       for (int j = 0; j < local_count; ++j)
         rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
+      // Fill the upper triangle: column j is then row j, read contiguously.
+      stiffness.template triangularView<Eigen::StrictlyUpper>() = stiffness.transpose();
       for (int j = 0; j < local_count; ++j) {
         own_load[static_cast<std::size_t>(rows[j])] += rhs[j];
         if (pure_neumann) own_mean[static_cast<std::size_t>(rows[j])] += mean_rhs[j];
         double* row = own_band.data() + static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
                       stencil_centre - stencil_of_local[j];
-        for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += j >= l ? stiffness(j, l) : stiffness(l, j);
+        const double* column = stiffness.col(j).data();
+        for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += column[l];
       }
     }
 #pragma omp critical

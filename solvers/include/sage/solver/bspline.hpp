@@ -24,19 +24,27 @@ constexpr int kMaxDegree = 5;
 /// local coordinate t in [0, 1]. 0 <= degree <= kMaxDegree. Second
 /// derivatives: B_d'' = B_{d-2}(x) - 2 B_{d-2}(x - 1) + B_{d-2}(x - 2).
 inline void bspline_on_cell(int degree, double t, double* values, double* derivatives, double* second_derivatives) {
-  // level[d][j]: degree-d spline j of the cell (spline c + j), j = 0..d.
-  std::array<std::array<double, kMaxDegree + 1>, kMaxDegree + 1> level{};
-  level[0][0] = 1.0;
-  auto at = [&](int d, int j) { return d >= 0 && j >= 0 && j <= d ? level[d][j] : 0.0; };
-  for (int d = 1; d <= degree; ++d)
-    for (int j = 0; j <= d; ++j)  // at(d-1, j-1) starts one cell earlier than at(d-1, j)
-      level[d][j] = ((t + d - j) * at(d - 1, j - 1) + (1.0 - t + j) * at(d - 1, j)) / d;
+  // Levels d - 2, d - 1 and d of the recurrence; entry j is spline c + j,
+  // and entries past d are 0 (never written).
+  std::array<double, kMaxDegree + 2> before{}, previous{}, current{};
+  current[0] = 1.0;
+  for (int d = 1; d <= degree; ++d) {
+    before = previous;
+    previous = current;
+    current[0] = (1.0 - t) * previous[0] / d;
+    for (int j = 1; j <= d; ++j)  // previous[j - 1] starts one cell earlier than previous[j]
+      current[j] = ((t + d - j) * previous[j - 1] + (1.0 - t + j) * previous[j]) / d;
+  }
+  values[0] = current[0];
+  derivatives[0] = degree == 0 ? 0.0 : -previous[0];
+  for (int j = 1; j <= degree; ++j) {
+    values[j] = current[j];
+    derivatives[j] = previous[j - 1] - previous[j];
+  }
+  if (!second_derivatives) return;
   for (int j = 0; j <= degree; ++j) {
-    values[j] = level[degree][j];
-    derivatives[j] = degree == 0 ? 0.0 : at(degree - 1, j - 1) - at(degree - 1, j);
-    if (second_derivatives)
-      second_derivatives[j] =
-          degree < 2 ? 0.0 : at(degree - 2, j - 2) - 2.0 * at(degree - 2, j - 1) + at(degree - 2, j);
+    const double two_back = j >= 2 ? before[j - 2] : 0.0, one_back = j >= 1 ? before[j - 1] : 0.0;
+    second_derivatives[j] = degree < 2 ? 0.0 : two_back - 2.0 * one_back + before[j];
   }
 }
 
