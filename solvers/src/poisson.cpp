@@ -190,7 +190,7 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
   const auto& grid = solution_->basis.grid;
   const auto cell = grid.cell_of(x);
   const bool structured = solution_->structure->results().size() > 2;
-  LocalSplines<D> local;
+  LocalSplines<D>& local = local_;
   local.evaluate(grid, cell, x, structured);
   // Phi = sum c B, its gradient and (structure route) its Hessian.
   double s = 0.0;

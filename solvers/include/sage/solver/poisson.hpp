@@ -33,6 +33,7 @@
 
 #include <sage/evaluator.hpp>
 #include <sage/solver/domain_quadrature.hpp>
+#include <sage/solver/local_splines.hpp>
 #include <sage/solver/problem.hpp>
 #include <sage/solver/trial_structure.hpp>
 #include <sage/solver/web_basis.hpp>
@@ -121,6 +122,7 @@ class PoissonSolution {
 
    private:
     const PoissonSolution* solution_;
+    LocalSplines<D> local_;  // reused: no allocation per point
     Evaluator<Tuple<D, 1>> structure_;
     Evaluator<double> domain_;
   };
