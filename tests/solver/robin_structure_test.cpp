@@ -7,7 +7,8 @@
 // W D1(Phi), so grad u contains W times second derivatives of the splines,
 // which degree-n splines approximate to O(h^(n-1)) only (in 1D with W = x
 // and beta = 0, u' = -x Phi'' exactly). Measured on this problem, degree 2
-// down to h = 0.025: L2 rates 2.8, 2.2, 2.0 and H1 rates 1.6, 1.1, 1.0.
+// down to h = 0.025: L2 rates 2.8, 2.2, 2.0 and H1 rates 1.6, 1.1, 1.0;
+// degree 3 has not settled there (H1 rates 1.0, 2.2, 3.1).
 #include "manufactured.hpp"
 
 #include <sage/evaluator.hpp>
