@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <stdexcept>
 #include <string>
@@ -103,6 +104,12 @@ Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, c
     throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
                              " iterations (relative residual " + std::to_string(cg.error()) + ")");
   return x;
+}
+
+std::string scientific(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3e", x);
+  return text;
 }
 
 template <int D>
@@ -543,7 +550,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       throw std::invalid_argument(
           "incompatible Neumann data: a pure Neumann problem needs (integral of f over the domain) + (integral of h "
           "over the boundary) = 0, but it is " +
-          std::to_string(total) + " (relative to the integrals of |f| and |h|: " + std::to_string(defect) +
+          scientific(total) + " (relative to the integrals of |f| and |h|: " + scientific(defect) +
           "); fix the data or give a part a Dirichlet or Robin condition");
     right -= (total / mean_row.sum()) * mean_row;
     Eigen::Index pinned = 0;
