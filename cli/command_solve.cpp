@@ -1,5 +1,5 @@
 // sage solve PROBLEM.json -o OUT.vtu [--degree 3] [--cells 64 | --h 0.01]
-//            [--basis web|weighted] [--solver auto|direct|cg|jacobi] [--grid RES]
+//            [--basis web|weighted] [--robin weak|structure] [--solver auto|direct|cg|jacobi] [--grid RES]
 //            [--quadrature-points FILE.vtu] [--condition | --no-condition] [--quiet]
 
 #include "commands.hpp"
@@ -25,7 +25,7 @@ namespace sage::cli {
 namespace {
 
 struct SolveCommand {
-  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid;
+  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid, robin;
   solver::SolverOptions options;
   std::optional<int> cells;
   std::optional<double> h;
@@ -128,8 +128,10 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
 
   if (command.quiet) return;
   const auto& s = r.seconds;
-  std::printf("%s: %dD Poisson, degree %d, %s basis, h = %g\n", command.problem_path.c_str(), D, command.options.degree,
-              command.basis.c_str(), command.options.cell_width);
+  std::printf("%s: %dD Poisson, degree %d, %s basis, %s Robin/Neumann route, h = %g\n", command.problem_path.c_str(), D,
+              command.options.degree, command.basis.c_str(),
+              command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
+              command.options.cell_width);
   std::printf("  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface\n", r.cells,
               r.cells_inside, r.cells_cut, r.volume_points, r.surface_points);
   std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
@@ -138,6 +140,9 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   if (std::isfinite(r.condition))
     std::printf("; condition estimate %.3g (%.3g after diagonal scaling)", r.condition, r.scaled_condition);
   std::printf("\n");
+  if (r.neumann_compatibility)
+    std::printf("  pure Neumann: compatibility defect %.1e (relative), mean of u fixed to 0\n",
+                *r.neumann_compatibility);
   if (r.l2_error) std::printf("  relative errors: L2 %.3e, H1 seminorm %.3e\n", *r.l2_error, *r.h1_error);
   std::printf(
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
@@ -166,6 +171,9 @@ int run_solve(const std::vector<std::string>& args) {
   add("cells", po::value(&cells), "cells across the longest side of the box (default 64 in 2D, 20 in 3D)");
   add("h", po::value(&h), "cell width (instead of --cells)");
   add("basis", po::value(&command.basis)->default_value("web"), "web (stable WEB-splines) or weighted");
+  add("robin", po::value(&command.robin),
+      "weak (Neumann and Robin conditions by boundary integrals; default) or structure (Rvachev's solution "
+      "structure as well, degree >= 2; overrides the problem file's \"robin\")");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
       "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
       "or jacobi (conjugate gradients, Jacobi)");
@@ -206,8 +214,18 @@ int run_solve(const std::vector<std::string>& args) {
     throw UsageError{"--solver must be auto, direct, cg or jacobi, not '" + command.linear_solver + "'"};
   }
 
+  std::optional<solver::RobinRoute> robin;
+  if (!command.robin.empty()) {
+    try {
+      robin = solver::parse_robin_route(command.robin);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{std::string("--robin: ") + e.what()};
+    }
+  }
+
   const ProblemFile file = read_problem_file(command.problem_path);
   const solver::PoissonProblem& problem = file.problem;
+  command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));
   command.options.estimate_condition =
       vm.count("condition") > 0 || (vm.count("no-condition") == 0 && problem.dimension == 2);
   if (command.h) {

@@ -23,7 +23,8 @@ class Reader {
 
   void read(const Json& top) {
     if (!top.is_object()) fail("", "a problem file is a JSON object");
-    check_keys(top, "", {"name", "description", "domain", "bounds", "conductivity", "source", "boundary", "exact"});
+    check_keys(top, "",
+               {"name", "description", "domain", "bounds", "conductivity", "source", "boundary", "exact", "robin"});
     if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
     read_domain(top["domain"]);
     solver::PoissonProblem& p = out_.problem;
@@ -37,6 +38,14 @@ class Reader {
       out_.exact_formula = top["exact"].is_string() ? top["exact"].get<std::string>() : top["exact"].dump();
     }
     if (top.contains("boundary")) read_boundary(top["boundary"]);
+    if (top.contains("robin")) {
+      if (!top["robin"].is_string()) fail("/robin", "expected \"weak\" or \"structure\"");
+      try {
+        out_.robin = solver::parse_robin_route(top["robin"].get<std::string>());
+      } catch (const std::invalid_argument& e) {
+        fail("/robin", e.what());
+      }
+    }
   }
 
  private:

@@ -6,7 +6,9 @@
 
 #include <sage/geometry/model.hpp>
 #include <sage/solver/problem.hpp>
+#include <sage/solver/trial_structure.hpp>
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -22,7 +24,8 @@ class ProblemError : public std::runtime_error {
 struct ProblemFile {
   solver::PoissonProblem problem;
   geometry::Model model;
-  std::string exact_formula;  // empty when none
+  std::string exact_formula;                // empty when none
+  std::optional<solver::RobinRoute> robin;  // "robin": "weak" | "structure"; --robin overrides
 };
 
 /// Reads a problem file. Throws ProblemError (and geometry::ModelError for

@@ -39,8 +39,12 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     dirichlet_fields.push_back(s.selectors[k]);
     dirichlet_values.push_back(problem.parts[k].value);
   }
-  bool has_robin = problem.rest.kind == BoundaryKind::Robin;
-  for (const BoundaryPart& part : problem.parts) has_robin = has_robin || part.kind == BoundaryKind::Robin;
+  // A Robin part with beta = 0 is a Neumann part.
+  auto robin = [](const BoundaryPart& part) {
+    return part.kind == BoundaryKind::Robin && !(part.beta.is_constant() && part.beta.constant_value() == 0.0);
+  };
+  bool has_robin = robin(problem.rest);
+  for (const BoundaryPart& part : problem.parts) has_robin = has_robin || robin(part);
 
   if (!rest_weak) {
     if (s.has_weak_parts)
@@ -55,10 +59,7 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
                                 ? problem.rest.value
                                 : transfinite_interpolation(dirichlet_fields, dirichlet_values);
   } else if (dirichlet_fields.empty()) {
-    if (!has_robin)
-      throw std::invalid_argument(
-          "pure Neumann problem: the solution is fixed only up to a constant, which this solver does not add; give "
-          "one part a Dirichlet or Robin condition");
+    s.pure_neumann = !has_robin;  // the solver checks compatibility and fixes the mean
     s.dirichlet_weight = 1.0;
     s.dirichlet_extension = 0.0;
   } else {

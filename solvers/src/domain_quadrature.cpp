@@ -333,6 +333,13 @@ void CellQuadrature<D>::line_rule(std::array<double, D> p, int e, const Box<D>& 
   std::vector<double> roots;
   append_roots(along, a, b, roots, 2);
   std::sort(roots.begin(), roots.end());
+  // A boundary on the cell's face (a domain edge on the grid's lattice, a
+  // common case) gives omega = 0 exactly at an end, not a sign change. The
+  // cell whose adjacent segment is inside takes the surface point, so the
+  // neighbour across the face does not take it twice.
+  const double first_end = roots.empty() ? b : roots.front(), last_start = roots.empty() ? a : roots.back();
+  if (along(b) == 0.0 && along(0.5 * (last_start + b)) > 0) roots.push_back(b);
+  if (along(a) == 0.0 && along(0.5 * (a + first_end)) > 0) roots.insert(roots.begin(), a);
   if (target.surface) {
     for (const double root : roots) {
       p[e] = root;

@@ -8,8 +8,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <stdexcept>
+#include <string>
 
 namespace sage::solver {
 
@@ -104,6 +106,80 @@ Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, c
   return x;
 }
 
+std::string scientific(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3e", x);
+  return text;
+}
+
+template <int D>
+std::string point_text(const std::array<double, D>& x) {
+  std::string text = "(";
+  for (int a = 0; a < D; ++a) text += (a ? ", " : "") + std::to_string(x[a]);
+  return text + ")";
+}
+
+/// The structure route's own conditions (trial_structure.hpp): the field
+/// of the structured parts must not vanish inside the domain (W = 0 would
+/// impose the Robin condition there too), and the structured parts must not
+/// meet a Dirichlet part (W is singular where omega_D and omega_R vanish
+/// together). Checked at the quadrature points; throws std::invalid_argument.
+template <int D>
+void check_robin_structure(const BoundaryStructure& structure, const TrialStructure& trial, double h,
+                           const std::vector<std::vector<VolumePoint<D>>>& volume,
+                           const std::vector<std::vector<SurfacePoint<D>>>& surface) {
+  const Tape tape(std::vector<Expr>{trial.robin_field, structure.dirichlet_weight}, D);
+  const bool has_dirichlet = trial.joined_with_dirichlet;
+  double lowest = 0.0;
+  std::array<double, D> lowest_at{}, junction{};
+  bool meets = false;
+#pragma omp parallel
+  {
+    Evaluator<Tuple<D, 1>> eval(tape);
+    double own_lowest = 0.0;
+    std::array<double, D> own_at{};
+#pragma omp for schedule(dynamic, 64) nowait
+    for (std::size_t k = 0; k < volume.size(); ++k) {
+      for (const auto& q : volume[k]) {
+        eval.evaluate(q.x.data());
+        if (eval.result(0).value() < own_lowest) {
+          own_lowest = eval.result(0).value();
+          own_at = q.x;
+        }
+      }
+      if (!has_dirichlet) continue;
+      for (const auto& q : surface[k]) {
+        eval.evaluate(q.x.data());
+        if (std::abs(eval.result(0).value()) > 1e-6 * h) continue;  // not on a structured part
+        const auto& omega_d = eval.result(1);
+        double slope = 0.0;
+        for (double g : omega_d.gradient()) slope += g * g;
+        if (omega_d.value() > 0.5 * h * std::sqrt(slope)) continue;
+#pragma omp critical
+        {
+          meets = true;
+          junction = q.x;
+        }
+      }
+    }
+#pragma omp critical
+    if (own_lowest < lowest) {
+      lowest = own_lowest;
+      lowest_at = own_at;
+    }
+  }
+  if (lowest < -1e-9 * h)
+    throw std::invalid_argument(
+        "Robin structure: the field of the Neumann and Robin parts is negative inside the domain "
+        "(at " +
+        point_text<D>(lowest_at) +
+        "), so its zero set crosses the domain; the structure route needs fields that vanish "
+        "on the boundary only (use the weak route)");
+  if (meets)
+    throw std::invalid_argument("Robin structure: a Neumann or Robin part meets a Dirichlet part (near " +
+                                point_text<D>(junction) + "), where the structure is singular; use the weak route");
+}
+
 }  // namespace
 
 template <int D>
@@ -120,10 +196,13 @@ template <int D>
 double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
   const auto& grid = solution_->basis.grid;
   const auto cell = grid.cell_of(x);
-  LocalSplines<D> local;
-  local.evaluate(grid, cell, x);
+  const bool structured = solution_->structure->results().size() > 2;
+  LocalSplines<D>& local = local_;
+  local.evaluate(grid, cell, x, structured);
+  // Phi = sum c B, its gradient and (structure route) its Hessian.
   double s = 0.0;
   std::array<double, D> grad_s{};
+  std::array<double, LocalSplines<D>::kHessianEntries> hess_s{};
   for (int k = 0; k < grid.local_count(); ++k) {
     const auto i = LocalSplines<D>::global_index(cell, grid.degree, k);
     const long long r = solution_->basis.relevant_of[grid.spline_linear(i)];
@@ -131,15 +210,29 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
     const double c = solution_->spline_coefficients[r];
     s += c * local.value[k];
     for (int a = 0; a < D; ++a) grad_s[a] += c * local.gradient[a][k];
+    if (structured)
+      for (int e = 0; e < LocalSplines<D>::kHessianEntries; ++e) hess_s[e] += c * local.hessian[e][k];
   }
   structure_.evaluate(x);
   const auto& w = structure_.result(0);
   const auto& g = structure_.result(1);
-  if (gradient) {
-    const auto gw = w.gradient(), gg = g.gradient();
-    for (int a = 0; a < D; ++a) gradient[a] = gw[a] * s + w.value() * grad_s[a] + gg[a];
+  double u = w.value() * s + g.value();
+  std::array<double, D> grad_u{};
+  const auto gw = w.gradient(), gg = g.gradient();
+  for (int a = 0; a < D; ++a) grad_u[a] = gw[a] * s + w.value() * grad_s[a] + gg[a];
+  if (structured) {
+    // u -= transport . grad Phi, and its gradient.
+    for (int b = 0; b < D; ++b) {
+      const auto& t = structure_.result(2 + static_cast<std::size_t>(b));
+      const auto gt = t.gradient();
+      u -= t.value() * grad_s[b];
+      for (int a = 0; a < D; ++a)
+        grad_u[a] -= gt[a] * grad_s[b] + t.value() * hess_s[LocalSplines<D>::hessian_index(a, b)];
+    }
   }
-  return w.value() * s + g.value();
+  if (gradient)
+    for (int a = 0; a < D; ++a) gradient[a] = grad_u[a];
+  return u;
 }
 
 template <int D>
@@ -207,6 +300,11 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   timer.lap(&StageSeconds::classification);
 
   const BoundaryStructure structure = boundary_structure(problem, interior);
+  const bool structured = options.robin == RobinRoute::Structure && structure.has_weak_parts;
+  if (structured && n < 2)
+    throw std::invalid_argument(
+        "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
+  const TrialStructure trial = structured ? robin_trial(problem, structure) : dirichlet_trial(structure);
   if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
@@ -263,8 +361,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   }
   surface_roots.push_back(problem.rest.beta);
   surface_roots.push_back(problem.rest.flux);
-  auto structure_tape =
-      std::make_shared<Tape>(std::vector<Expr>{structure.dirichlet_weight, structure.dirichlet_extension}, D);
+  std::vector<Expr> trial_roots{trial.scale, trial.offset};
+  for (const Expr& t : trial.transport) trial_roots.push_back(t);
+  auto structure_tape = std::make_shared<Tape>(trial_roots, D);
+  if (structured) check_robin_structure(structure, trial, grid.h, volume, surface);
   const AssemblyTapes tapes{*structure_tape, Tape(std::vector<Expr>{problem.conductivity, problem.source}, D),
                             Tape(surface_roots, D)};
   solution.structure = structure_tape;
@@ -275,6 +375,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const std::size_t relevant = basis.relevant.size();
   std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
   std::vector<double> load(relevant, 0.0);
+  // Pure Neumann: (v_i, 1) per relevant spline, and (|f|, 1) + <|h|, 1>.
+  const bool pure_neumann = structure.pure_neumann;
+  std::vector<double> mean_load(pure_neumann ? relevant : 0, 0.0);
+  double data_size = 0.0;
   const int local_count = grid.local_count();
   // Band position of the pair (j, l) of local splines: their offset
   // difference, numbered in the (2n + 1)^D stencil.
@@ -296,10 +400,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     Evaluator<double> surface_eval(tapes.surface);
     LocalSplines<D> local;
     Eigen::MatrixXd gradients, stiffness(local_count, local_count);
-    Eigen::VectorXd rhs(local_count);
+    Eigen::VectorXd rhs(local_count), trial_values(local_count);
     std::vector<long long> rows(static_cast<std::size_t>(local_count));
     // Each thread adds into its own band (no atomics); summed below.
-    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0);
+    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
+    Eigen::VectorXd mean_rhs(local_count);
+    double own_data_size = 0.0;
 #pragma omp for schedule(dynamic, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto& points = volume[k];
@@ -307,7 +413,43 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       const auto cell = grid.cell_index(candidates[k]);
       gradients.resize(local_count, static_cast<Eigen::Index>(points.size() * D));
       rhs.setZero();
-      for (std::size_t p = 0; p < points.size(); ++p) {
+      mean_rhs.setZero();
+      for (std::size_t p = 0; p < points.size() && structured; ++p) {
+        const auto& q = points[p];
+        structure_eval.evaluate(q.x.data());
+        coefficient_eval.evaluate(q.x.data());
+        const double conductivity = coefficient_eval.result(0), source = coefficient_eval.result(1);
+        local.evaluate(grid, cell, q.x.data(), true);
+        const auto& w = structure_eval.result(0);
+        const auto gw = w.gradient(), gg = structure_eval.result(1).gradient();
+        const double scale = std::sqrt(std::max(conductivity, 0.0) * q.weight);
+        // v_j = w B_j - t . grad B_j; d v_j / dx_a = dw/dx_a B_j + w dB_j/dx_a
+        //       - sum_b (dt_b/dx_a dB_j/dx_b + t_b d2B_j/dx_a dx_b).
+        const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
+        trial_values = w.value() * values;
+        for (int b = 0; b < D; ++b)
+          trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
+                          Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+        rhs += (q.weight * source) * trial_values;
+        if (pure_neumann) {
+          mean_rhs += q.weight * trial_values;
+          own_data_size += q.weight * std::abs(source);
+        }
+        for (int a = 0; a < D; ++a) {
+          auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
+          column =
+              gw[a] * values + w.value() * Eigen::Map<const Eigen::VectorXd>(local.gradient[a].data(), local_count);
+          for (int b = 0; b < D; ++b) {
+            const auto& t = structure_eval.result(2 + static_cast<std::size_t>(b));
+            column -= t.gradient()[a] * Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count) +
+                      t.value() * Eigen::Map<const Eigen::VectorXd>(
+                                      local.hessian[LocalSplines<D>::hessian_index(a, b)].data(), local_count);
+          }
+          rhs -= (q.weight * conductivity * gg[a]) * column;
+          column *= scale;
+        }
+      }
+      for (std::size_t p = 0; p < points.size() && !structured; ++p) {
         const auto& q = points[p];
         structure_eval.evaluate(q.x.data());
         coefficient_eval.evaluate(q.x.data());
@@ -321,6 +463,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         // grad v_j = B_j grad w + w grad B_j (contiguous, vectorizable).
         const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
         rhs += (q.weight * source * w.value()) * values;
+        if (pure_neumann) {
+          mean_rhs += (q.weight * w.value()) * values;
+          own_data_size += q.weight * std::abs(source);
+        }
         for (int a = 0; a < D; ++a) {
           const Eigen::Map<const Eigen::VectorXd> slopes(local.gradient[a].data(), local_count);
           auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
@@ -338,26 +484,37 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         structure_eval.evaluate(s.x.data());
         const double w = structure_eval.result(0).value(), g = structure_eval.result(1).value();
         local.evaluate(grid, cell, s.x.data());
+        trial_values = w * Eigen::Map<const Eigen::VectorXd>(local.value.data(), local_count);
+        for (int b = 0; b < D && structured; ++b)  // transport vanishes on the boundary up to round-off
+          trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
+                          Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+        own_data_size += pure_neumann ? s.weight * std::abs(data.flux) : 0.0;
         for (int j = 0; j < local_count; ++j) {
-          const double vj = w * local.value[j];
+          const double vj = trial_values[j];
           rhs[j] += s.weight * (data.flux - data.beta * g) * vj;
           if (data.beta == 0.0) continue;
-          for (int l = 0; l <= j; ++l) stiffness(j, l) += s.weight * data.beta * vj * w * local.value[l];
+          for (int l = 0; l <= j; ++l) stiffness(j, l) += s.weight * data.beta * vj * trial_values[l];
         }
       }
       for (int j = 0; j < local_count; ++j)
         rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
+      // Fill the upper triangle: column j is then row j, read contiguously.
+      stiffness.template triangularView<Eigen::StrictlyUpper>() = stiffness.transpose();
       for (int j = 0; j < local_count; ++j) {
         own_load[static_cast<std::size_t>(rows[j])] += rhs[j];
+        if (pure_neumann) own_mean[static_cast<std::size_t>(rows[j])] += mean_rhs[j];
         double* row = own_band.data() + static_cast<std::size_t>(rows[j]) * static_cast<std::size_t>(stencil) +
                       stencil_centre - stencil_of_local[j];
-        for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += j >= l ? stiffness(j, l) : stiffness(l, j);
+        const double* column = stiffness.col(j).data();
+        for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += column[l];
       }
     }
 #pragma omp critical
     {
       for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
+      for (std::size_t i = 0; i < mean_load.size(); ++i) mean_load[i] += own_mean[i];
+      data_size += own_data_size;
     }
   }
   std::vector<Eigen::Triplet<double>> entries;
@@ -380,9 +537,26 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   spline_matrix.setFromTriplets(entries.begin(), entries.end());
   entries = {};
   const Eigen::SparseMatrix<double> E = basis.extension;
-  const Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
-  const Eigen::VectorXd right =
+  Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
+  Eigen::VectorXd right =
       E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
+  Eigen::VectorXd mean_row;  // (v_i, 1) per unknown, pure Neumann only
+  if (pure_neumann) {
+    mean_row = E.transpose() * Eigen::Map<const Eigen::VectorXd>(mean_load.data(), static_cast<Eigen::Index>(relevant));
+    const double total = right.sum();  // (f, 1) + <h, 1>: the test function 1 is the vector of ones
+    const double defect = std::abs(total) / std::max(data_size, std::numeric_limits<double>::min());
+    report.neumann_compatibility = defect;
+    if (data_size > 0.0 && defect > kNeumannCompatibilityTolerance)
+      throw std::invalid_argument(
+          "incompatible Neumann data: a pure Neumann problem needs (integral of f over the domain) + (integral of h "
+          "over the boundary) = 0, but it is " +
+          scientific(total) + " (relative to the integrals of |f| and |h|: " + scientific(defect) +
+          "); fix the data or give a part a Dirichlet or Robin condition");
+    right -= (total / mean_row.sum()) * mean_row;
+    Eigen::Index pinned = 0;
+    system.diagonal().maxCoeff(&pinned);
+    system.coeffRef(pinned, pinned) *= 2.0;
+  }
   report.nonzeros = static_cast<std::size_t>(system.nonZeros());
   timer.lap(&StageSeconds::assembly);
 
@@ -407,6 +581,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
+  if (pure_neumann) coefficients.array() -= mean_row.dot(coefficients) / mean_row.sum();  // zero mean
   solution.spline_coefficients = E * coefficients;
   timer.lap(&StageSeconds::solve);
 

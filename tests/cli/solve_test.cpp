@@ -79,6 +79,44 @@ TEST(CliSolve, NamedPartsWithWeakConditions) {
   EXPECT_GT(fs::file_size(points), 0u);
 }
 
+TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
+  const std::string boundary =
+      R"({ "rim": { "type": "dirichlet", "value": 0 }, "hole": { "type": "robin", "beta": 2, "flux": "x" },
+           "default": { "type": "robin", "beta": 2, "flux": "x" } })";
+  const std::string plain = disk_problem("solve_structure.json", boundary);
+  Result r = run("solve " + plain + " -o " + scratch("structure.vtu").string() +
+                 " --degree 2 --cells 16 --no-condition --robin structure");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
+  const std::string keyed = disk_problem("solve_structure_key.json", boundary, R"(, "robin": "structure")");
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --no-condition");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --robin weak");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("weak Robin/Neumann route"), std::string::npos) << r.output;  // the flag wins
+  // Degree 1 has no second derivatives: a clear error naming the file.
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 1 --cells 16");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("degree 2 or more"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(keyed), std::string::npos) << r.output;
+  const std::string bad = disk_problem("solve_structure_bad.json", boundary, R"(, "robin": "sideways")");
+  r = run("solve " + bad + " -o " + scratch("structure.vtu").string() + " --cells 8");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("/robin"), std::string::npos) << r.output;
+  EXPECT_EQ(run("solve " + plain + " -o " + scratch("x.vtu").string() + " --robin strong").exit_code, 2);
+}
+
+TEST(CliSolve, CompatiblePureNeumannIsSolved) {
+  // f = 1 on the disk minus the hole (area 0.91 pi) balances h = -0.5 on the
+  // rim (length 2 pi) and h = 0.15 on the hole (length 0.6 pi).
+  const std::string problem = disk_problem("solve_neumann.json", R"({ "rim": { "type": "neumann", "flux": -0.5 },
+      "hole": { "type": "neumann", "flux": 0.15 }, "default": { "type": "neumann" } })");
+  const Result r = run("solve " + problem + " -o " + scratch("neumann.vtu").string() + " --degree 2 --cells 16");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("pure Neumann: compatibility defect"), std::string::npos) << r.output;
+}
+
 TEST(CliSolve, PlateExampleRuns) {
   const Result r = run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() +
                        " --degree 2 --cells 24 --no-condition");
@@ -105,7 +143,7 @@ TEST(CliSolve, BadInputNamesFileAndPlace) {
       {R"({ "lid": { "type": "dirichlet" } })", "", "unknown boundary part 'lid'"},
       {R"({ "rim": { "type": "dirichlet" }, "hole": { "type": "neumann" } })", "",
        "the default boundary condition must not be Dirichlet"},
-      {R"({ "default": { "type": "neumann" } })", "", "pure Neumann"},
+      {R"({ "default": { "type": "neumann" } })", "", "incompatible Neumann data"},  // f = 1, h = 0
       {R"({ "rim": { "type": "wall" } })", "", "/boundary/rim/type"},
       {R"({ "rim": { "type": "robin" } })", "", "needs \"beta\""},
       {R"({ "rim": { "type": "dirichlet", "value": "x +* 2" } })", "", "/boundary/rim/value"},

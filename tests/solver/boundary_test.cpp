@@ -1,6 +1,7 @@
 // The Dirichlet structure: transfinite interpolation takes each piece's
 // data on its piece; omega_D vanishes exactly on the Dirichlet parts and is
-// oriented positive inside; problems the solver does not pose are refused.
+// oriented positive inside; problems the solver does not pose are refused,
+// pure Neumann problems flagged.
 #include <sage/evaluator.hpp>
 #include <sage/primitives.hpp>
 #include <sage/solver/boundary_structure.hpp>
@@ -73,7 +74,11 @@ TEST(BoundaryStructure, RefusesWhatItCannotPose) {
   EXPECT_THROW(boundary_structure(p, {0.7, 0.0, 0.0}), std::invalid_argument);
   p.rest.kind = BoundaryKind::Neumann;
   p.parts[0].kind = BoundaryKind::Neumann;
-  EXPECT_THROW(boundary_structure(p, {0.7, 0.0, 0.0}), std::invalid_argument);  // pure Neumann
+  EXPECT_TRUE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);  // posed with zero mean (poisson.hpp)
+  p.parts[1].kind = BoundaryKind::Robin;                             // beta = 0: still Neumann
+  EXPECT_TRUE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);
+  p.parts[1].beta = 1.0;
+  EXPECT_FALSE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);
   p = square_with_hole();
   EXPECT_THROW(boundary_structure(p, {0.4, 0.0, 0.0}), std::invalid_argument);  // selector zero at the point
 }

@@ -71,6 +71,62 @@ TEST(BSpline, LocalSplinesReproduceLinearFunctions) {
   EXPECT_NEAR(dx, 1.0, 1e-13);
 }
 
+TEST(BSpline, SecondDerivativesAgainstDifferenceQuotients) {
+  // Degree n >= 3 is C^2 across the knots, so central differences of the
+  // first derivatives converge to the second everywhere, t = 0, 1 included.
+  for (int n = 2; n <= kMaxDegree; ++n) {
+    for (double t : {0.0, 0.21, 0.5, 0.77, 1.0}) {
+      if (n == 2 && (t == 0.0 || t == 1.0)) continue;  // B_2'' jumps at the knots
+      double v[kMaxDegree + 1], d[kMaxDegree + 1], dd[kMaxDegree + 1], dp[kMaxDegree + 1], dm[kMaxDegree + 1];
+      bspline_on_cell(n, t, v, d, dd);
+      const double e = 1e-5;
+      bspline_on_cell(n, t + e, v, dp);
+      bspline_on_cell(n, t - e, v, dm);
+      double sum = 0.0;
+      for (int j = 0; j <= n; ++j) {
+        EXPECT_NEAR(dd[j], (dp[j] - dm[j]) / (2 * e), 1e-8) << "degree " << n << " t " << t;
+        sum += dd[j];
+      }
+      EXPECT_NEAR(sum, 0.0, 1e-12);  // second derivative of the partition of unity
+    }
+  }
+  double v[3], d[3], dd[3];
+  bspline_on_cell(2, 0.3, v, d, dd);  // B_2 pieces: t^2/2, .., so B'' = 1, -2, 1
+  EXPECT_NEAR(dd[0], 1.0, 1e-15);
+  EXPECT_NEAR(dd[1], -2.0, 1e-15);
+  EXPECT_NEAR(dd[2], 1.0, 1e-15);
+}
+
+TEST(BSpline, LocalSplineHessiansReproduceAQuadratic) {
+  // Degree 3 holds x y and x^2: their spline coefficients come from the
+  // Marsden identity; check the Hessians of the local sums.
+  const auto grid = BackgroundGrid<3>::covering({-1, -1, -1}, {1, 1, 1}, 0.25, 3);
+  LocalSplines<3> local;
+  const double x[3] = {0.3, -0.55, 0.12};
+  const auto cell = grid.cell_of(x);
+  local.evaluate(grid, cell, x, true);
+  // Coefficient of x_a x_b (a != b): product of Greville abscissae; of x_a^2:
+  // the symmetric product of the knots' pairs, Greville^2 - (n + 1) h^2 / 12.
+  double xy = 0.0, xx = 0.0, xy_mixed = 0.0, xx_pure = 0.0, zz_of_xy = 0.0;
+  for (int k = 0; k < grid.local_count(); ++k) {
+    const auto i = LocalSplines<3>::global_index(cell, 3, k);
+    std::array<double, 3> greville{};
+    for (int a = 0; a < 3; ++a) greville[a] = grid.lo[a] + grid.h * (i[a] - 3 + 0.5 * (3 + 1));
+    const double c_xy = greville[0] * greville[1];
+    const double c_xx = greville[0] * greville[0] - grid.h * grid.h * (3 + 1) / 12.0;
+    xy += c_xy * local.value[k];
+    xx += c_xx * local.value[k];
+    xy_mixed += c_xy * local.hessian[LocalSplines<3>::hessian_index(0, 1)][k];
+    zz_of_xy += c_xy * local.hessian[LocalSplines<3>::hessian_index(2, 2)][k];
+    xx_pure += c_xx * local.hessian[LocalSplines<3>::hessian_index(0, 0)][k];
+  }
+  EXPECT_NEAR(xy, x[0] * x[1], 1e-13);
+  EXPECT_NEAR(xx, x[0] * x[0], 1e-13);
+  EXPECT_NEAR(xy_mixed, 1.0, 1e-11);
+  EXPECT_NEAR(zz_of_xy, 0.0, 1e-11);
+  EXPECT_NEAR(xx_pure, 2.0, 1e-11);
+}
+
 TEST(WebBasis, ExtensionKeepsPolynomialCoefficients) {
   // Degree-2 coefficients of x^2 y (polynomial in the index) on the outer
   // splines are the Lagrange extrapolation of those on the inner ones.

@@ -15,11 +15,12 @@ struct BoundaryStructure {
   Expr dirichlet_extension;     // g~ (0 when there is no Dirichlet part)
   std::vector<Expr> selectors;  // per named part, >= 0 in the domain
   bool has_weak_parts = false;
+  bool pure_neumann = false;  // no Dirichlet part, beta = 0 everywhere: u is fixed up to a constant
 };
 
 /// `interior` is a point inside the domain, where the selectors' signs are
 /// read. Throws std::invalid_argument for problems this solver does not
-/// pose (pure Neumann; a Dirichlet rest beside weak parts; a selector that
+/// pose (a Dirichlet rest beside weak parts; a selector that
 /// vanishes at the interior point).
 BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior);
 

@@ -19,30 +19,38 @@ namespace sage::solver {
 
 constexpr int kMaxDegree = 5;
 
-/// Values and first derivatives (per unit t) of the degree + 1 splines
-/// nonzero on a cell, at local coordinate t in [0, 1]. 0 <= degree <= kMaxDegree.
-inline void bspline_on_cell(int degree, double t, double* values, double* derivatives) {
-  std::array<double, kMaxDegree + 2> previous{};
-  std::array<double, kMaxDegree + 2> current{};
+/// Values, first and (when `second_derivatives` is not null) second
+/// derivatives (per unit t) of the degree + 1 splines nonzero on a cell, at
+/// local coordinate t in [0, 1]. 0 <= degree <= kMaxDegree. Second
+/// derivatives: B_d'' = B_{d-2}(x) - 2 B_{d-2}(x - 1) + B_{d-2}(x - 2).
+inline void bspline_on_cell(int degree, double t, double* values, double* derivatives, double* second_derivatives) {
+  // Levels d - 2, d - 1 and d of the recurrence; entry j is spline c + j,
+  // and entries past d are 0 (never written).
+  std::array<double, kMaxDegree + 2> before{}, previous{}, current{};
   current[0] = 1.0;
   for (int d = 1; d <= degree; ++d) {
+    before = previous;
     previous = current;
-    for (int j = 0; j <= d; ++j) {
-      const double left = j > 0 ? previous[j - 1] : 0.0;  // B_{d-1}(x), starts one cell earlier
-      const double right = j < d ? previous[j] : 0.0;     // B_{d-1}(x - 1)
-      current[j] = ((t + d - j) * left + (1.0 - t + j) * right) / d;
-    }
+    current[0] = (1.0 - t) * previous[0] / d;
+    for (int j = 1; j <= d; ++j)  // previous[j - 1] starts one cell earlier than previous[j]
+      current[j] = ((t + d - j) * previous[j - 1] + (1.0 - t + j) * previous[j]) / d;
   }
-  for (int j = 0; j <= degree; ++j) {
+  values[0] = current[0];
+  derivatives[0] = degree == 0 ? 0.0 : -previous[0];
+  for (int j = 1; j <= degree; ++j) {
     values[j] = current[j];
-    if (degree == 0) {
-      derivatives[j] = 0.0;
-    } else {
-      const double left = j > 0 ? previous[j - 1] : 0.0;
-      const double right = j < degree ? previous[j] : 0.0;
-      derivatives[j] = left - right;
-    }
+    derivatives[j] = previous[j - 1] - previous[j];
   }
+  if (!second_derivatives) return;
+  for (int j = 0; j <= degree; ++j) {
+    const double two_back = j >= 2 ? before[j - 2] : 0.0, one_back = j >= 1 ? before[j - 1] : 0.0;
+    second_derivatives[j] = degree < 2 ? 0.0 : two_back - 2.0 * one_back + before[j];
+  }
+}
+
+/// Values and first derivatives only.
+inline void bspline_on_cell(int degree, double t, double* values, double* derivatives) {
+  bspline_on_cell(degree, t, values, derivatives, nullptr);
 }
 
 }  // namespace sage::solver

@@ -11,18 +11,31 @@
 // through the surface rule of domain_quadrature.hpp. Galerkin:
 //
 //     sum_j c_j [ (k grad v_j, grad v_i) + <beta v_j, v_i>_R ]
-//         = (f, v_i) - (k grad g~, grad v_i) + <h - beta g~, v_i>_{N,R}
+//         = (f, v_i) - (k grad u0, grad v_i) + <h - beta u0, v_i>_{N,R}
 //
-// with v_i = omega_D B_i^web, assembled cell by cell on all cores and solved
-// with conjugate gradients (LinearSolverKind) or a sparse LDLT.
+// with v_i = omega_D B_i^web and u0 = g~, assembled cell by cell on all
+// cores and solved with conjugate gradients (LinearSolverKind) or a sparse
+// LDLT. With RobinRoute::Structure the trial functions v_i and u0 are those
+// of Rvachev's structure (trial_structure.hpp), which satisfy the Neumann
+// and Robin conditions of the named parts identically; the equations are
+// the same (the boundary integrals stay: they are the variational form).
 //
-// Pure Neumann problems (no Dirichlet part, no Robin part) are refused: u is
-// then determined only up to a constant and this solver does not add the
-// constraint.
+// Pure Neumann problems (no Dirichlet part, beta = 0 on every part): u is
+// then fixed only up to a constant. The data must be compatible,
+// (f, 1) + <h, 1> = 0 to quadrature accuracy (else std::invalid_argument);
+// the remaining quadrature-level discrepancy is removed from the load
+// (as if f were shifted by a constant), one unknown's diagonal is doubled
+// (which makes the matrix definite and, for compatible data, pins that
+// unknown to 0 without changing the solution), and the constant is then
+// fixed by zero mean, (u, 1) = 0. The constant function is the coefficient
+// vector of ones in both bases (partition of unity; the WEB extension
+// keeps constants).
 
 #include <sage/evaluator.hpp>
 #include <sage/solver/domain_quadrature.hpp>
+#include <sage/solver/local_splines.hpp>
 #include <sage/solver/problem.hpp>
+#include <sage/solver/trial_structure.hpp>
 #include <sage/solver/web_basis.hpp>
 
 #include <Eigen/Core>
@@ -47,6 +60,7 @@ struct SolverOptions {
   int degree = 3;            // 1 .. kMaxDegree
   double cell_width = 0.05;  // h of the background grid
   BasisKind basis = BasisKind::Web;
+  RobinRoute robin = RobinRoute::Weak;  // Structure needs degree >= 2
   LinearSolverKind linear_solver = LinearSolverKind::Automatic;
   bool estimate_condition = true;
   int quadrature_points = 0;     // per direction; 0: degree + 2
@@ -79,17 +93,24 @@ struct SolveReport {
   /// Relative errors when the problem has an exact solution: L2 and the H1
   /// seminorm (|u - u_h|_1 / |u|_1).
   std::optional<double> l2_error, h1_error;
+  /// Pure Neumann problems: |(f, 1) + <h, 1>| / ((|f|, 1) + <|h|, 1>).
+  std::optional<double> neumann_compatibility;
 };
+
+/// Largest relative compatibility defect accepted for pure Neumann data.
+constexpr double kNeumannCompatibilityTolerance = 1e-6;
 
 template <int D>
 class PoissonSolution {
  public:
   SolveReport report;
   SplineBasis<D> basis;
-  Eigen::VectorXd spline_coefficients;    // of the relevant B-splines (E c)
-  std::shared_ptr<const Tape> structure;  // roots: omega_D, g~
-  std::shared_ptr<const Tape> domain;     // omega
-  QuadratureDump quadrature;              // when SolverOptions::keep_quadrature
+  Eigen::VectorXd spline_coefficients;  // of the relevant B-splines (E c)
+  /// Roots: scale, u0, then transport per axis for the structure route
+  /// (trial_structure.hpp).
+  std::shared_ptr<const Tape> structure;
+  std::shared_ptr<const Tape> domain;  // omega
+  QuadratureDump quadrature;           // when SolverOptions::keep_quadrature
 
   /// Evaluates u (and grad u) at points; one per thread.
   class Probe {
@@ -101,13 +122,16 @@ class PoissonSolution {
 
    private:
     const PoissonSolution* solution_;
+    LocalSplines<D> local_;  // reused: no allocation per point
     Evaluator<Tuple<D, 1>> structure_;
     Evaluator<double> domain_;
   };
 };
 
 /// Solves the problem. Throws std::invalid_argument for a problem that
-/// cannot be posed (pure Neumann, Dirichlet default with weak parts) and
+/// cannot be posed (pure Neumann, Dirichlet default with weak parts; for
+/// the structure route: degree 1, structured parts meeting Dirichlet parts,
+/// a part's field vanishing inside the domain) and
 /// std::runtime_error when the grid cannot carry it (empty domain, too
 /// coarse) or the solve fails.
 template <int D>

@@ -1,0 +1,71 @@
+#pragma once
+// The trial functions of the solver: u = u0 + sum_j c_j v_j with
+//
+//     v_j = scale B_j - transport . grad B_j,
+//
+// B_j the WEB B-splines and scale, transport, u0 fields built once from the
+// problem (expressions; their gradients come from tuples).
+//
+// Dirichlet structure (weak route for Neumann and Robin parts):
+//     scale = omega_D, transport = 0, u0 = g~.
+//
+// Rvachev's structure for Robin and Neumann parts (structure route): with
+// P = g~ + omega_D Phi, Phi = sum c_j B_j, and W a field vanishing on the
+// Dirichlet parts and the structured parts, normalized there so that
+// grad W = -n (n the outward normal; W >= 0 inside), and D1 = grad W . grad:
+//
+//     u = P - W D1(P) + W (beta P - h) / k.
+//
+// On a structured part W = 0, D1(W) = |grad W|^2 = 1, so u = P and
+// D1(u) = D1(P) - D1(P) + (beta P - h) / k = (beta u - h) / k; since
+// D1(u) = -du/dn there, this is k du/dn + beta u = h, for every Phi. On a
+// Dirichlet part W = 0 and omega_D = 0, so u = g~. Written per spline:
+//     scale = omega_D (1 + W beta / k) - W D1(omega_D),
+//     transport = W omega_D grad W,
+//     u0 = g~ (1 + W beta / k) - W D1(g~) - W h / k.
+//
+// W: omega_R, the R0-conjunction of the named Neumann and Robin parts'
+// oriented selectors, each normalized (FORMULAS.md); with Dirichlet parts
+// W = omega_R omega_D^2 / (omega_D^2 + omega_R^2), which is still
+// normalized on the structured parts but vanishes to second order on the
+// Dirichlet parts: a first-order zero there (W = omega_D R0-and omega_R,
+// say) would make the structure impose D1(u) = (beta g - h) / k on the
+// Dirichlet parts as well, and the solution would not converge. W is
+// singular where omega_D and omega_R vanish together: the parts must not
+// meet. Without Dirichlet parts and without named weak parts, W is the
+// normalized domain field. beta and h off the boundary: the part's
+// data, or transfinite interpolation of the parts' data when they differ.
+// Boundary left to the default part (no selector) keeps its condition
+// weakly: the Galerkin equations keep the boundary integrals either way.
+
+#include <sage/solver/boundary_structure.hpp>
+#include <sage/solver/problem.hpp>
+
+#include <string>
+#include <vector>
+
+namespace sage::solver {
+
+/// Weak: Neumann and Robin conditions by boundary integrals only.
+/// Structure: Rvachev's structure as well (needs degree >= 2).
+enum class RobinRoute { Weak, Structure };
+
+/// Parses "weak" or "structure"; throws std::invalid_argument.
+RobinRoute parse_robin_route(const std::string& text);
+
+struct TrialStructure {
+  Expr scale;                          // omega_D for the Dirichlet structure
+  std::vector<Expr> transport;         // empty for the Dirichlet structure, else one per axis
+  Expr offset;                         // u0
+  Expr robin_weight;                   // W (0 for the Dirichlet structure)
+  Expr robin_field;                    // omega_R, for the checks of the solver (0 for the Dirichlet structure)
+  bool joined_with_dirichlet = false;  // W built with omega_D (singular where omega_D and omega_R both vanish)
+  bool structured() const { return !transport.empty(); }
+};
+
+TrialStructure dirichlet_trial(const BoundaryStructure& structure);
+
+/// The structure route. Requires structure.has_weak_parts.
+TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure);
+
+}  // namespace sage::solver
