@@ -98,4 +98,27 @@ struct ConvexCsg {
 std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                                     const RSystem& system, std::string& reason);
 
+/// The well-formed CSG of a non-convex polyhedron by the convex deficiency
+/// decomposition (mesh_deficiency.cpp): at each component, the
+/// R-conjunction of its hull's planes (face planes, and bridges: hull planes
+/// carrying no face) AND NOT the R-disjunction of its deficiency
+/// components, recursively, with the faces reversed at odd depths.
+struct DeficiencyCsg {
+  Expr field;
+  std::vector<std::vector<std::size_t>> planes;  // triangles of each face plane (exactly coplanar, same side)
+  std::vector<std::size_t> plane_uses;           // leaves per face plane (1: used once)
+  std::size_t bridges = 0;                       // hull planes carrying no face
+  std::size_t nodes = 0;                         // components (the top one included)
+  int depth = 0;                                 // deepest component
+};
+
+/// Builds the decomposition of a closed, outward oriented, connected mesh;
+/// nullopt with the reason when it does not terminate (a component below
+/// the top with no face on its own hull), exceeds max_depth levels, or meets
+/// a degenerate component. Signs are exact by construction when every
+/// deficiency component is bounded by one edge-connected patch of faces;
+/// the caller checks them against point membership.
+std::optional<DeficiencyCsg> deficiency_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                                            const RSystem& system, int max_depth, std::string& reason);
+
 }  // namespace sage::geometry::mesh
