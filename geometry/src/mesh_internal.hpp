@@ -121,4 +121,22 @@ struct DeficiencyCsg {
 std::optional<DeficiencyCsg> deficiency_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                                             const RSystem& system, int max_depth, std::string& reason);
 
+/// Several shells (mesh_shells.cpp): separate solids, cavities (their
+/// shells reversed bound solids), solids in cavities; each shell's own CSG
+/// (convex, else the deficiency decomposition), combined by nesting:
+/// solid AND NOT (union of what lies directly inside it), united at the top.
+struct ShellsCsg {
+  Expr field;
+  std::size_t solids = 0, cavities = 0;
+  std::vector<std::vector<std::size_t>> planes;  // face planes (soup triangles), shell by shell
+  std::size_t reused = 0;                        // face planes used more than once
+  std::size_t bridges = 0;
+  std::size_t nodes = 0;  // convex components over all shells
+  int depth = 0;
+};
+
+/// nullopt with the reason (naming the shell) when a shell's CSG fails.
+std::optional<ShellsCsg> shells_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                                    const RSystem& system, int max_depth, std::string& reason);
+
 }  // namespace sage::geometry::mesh

@@ -152,7 +152,40 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
       }
       return model;
     }
-    if (valid.components == 1) {
+    if (valid.components > 1) {
+      std::optional<mesh::ShellsCsg> shells =
+          mesh::shells_csg(soup.points, soup.triangles, model.rfunction, options.csg_depth_limit, reason);
+      if (shells) {
+        xi = mesh::make_mesh_classifier(soup.points, soup.triangles);
+        const SignCheck check = check_signs(shells->field, *xi, soup, bounds, diagonal);
+        if (check.mismatches == 0) {
+          model.field = shells->field;
+          std::ostringstream note;
+          note << "method: csg; " << valid.components << " shells (" << shells->solids << " solid, " << shells->cavities
+               << " cavity boundaries), each its own CSG (convex, or the convex deficiency "
+               << "decomposition), combined by nesting (solid AND NOT what lies directly inside it, "
+               << model.rfunction.name() << "); " << shells->nodes << " convex components, depth " << shells->depth
+               << "; " << shells->planes.size() << " face planes ("
+               << (shells->reused ? std::to_string(shells->reused) + " used more than once"
+                                  : std::string("each used once"))
+               << ") and " << shells->bridges << " bridge planes (hull planes carrying no face)";
+          model.notes.push_back(note.str());
+          model.notes.push_back("csg sign check: agrees with exact point membership (CGAL) at " +
+                                std::to_string(check.points) + " points");
+          for (std::size_t i = 0; i < shells->planes.size(); ++i) {
+            if (i == kListedPrimitives) {
+              model.primitives.push_back(
+                  {"", "planes", "... " + std::to_string(shells->planes.size()) + " planes in all"});
+              break;
+            }
+            model.primitives.push_back({"", "plane", face_list(soup, shells->planes[i])});
+          }
+          return model;
+        }
+        reason = "the nested shells' CSG disagrees with exact point membership at " + std::to_string(check.mismatches) +
+                 " of " + std::to_string(check.points) + " points";
+      }
+    } else {
       const std::string not_convex = reason;
       std::optional<mesh::DeficiencyCsg> deficiency =
           mesh::deficiency_csg(soup.points, soup.triangles, model.rfunction, options.csg_depth_limit, reason);
