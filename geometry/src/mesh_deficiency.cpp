@@ -250,6 +250,12 @@ class Decomposition {
         }
     }
 
+    if (std::find(inside.begin(), inside.end(), SIZE_MAX) != inside.end()) {
+      fail("a component at depth " + std::to_string(depth) + " (" + std::to_string(faces.size()) +
+           " faces, from triangle " + std::to_string(faces.front()) + ") is flat");
+      return std::nullopt;
+    }
+
     // Hull faces and the planes they give; the rest are pocket faces.
     std::vector<std::size_t> mesh_plane(planes.size(), SIZE_MAX);
     std::vector<std::size_t> pocket;

@@ -6,7 +6,8 @@
 //   read_mesh_soup       mesh_reader.cpp      file -> points + triangles
 //   validate_mesh        mesh_validation.cpp  exact checks, outward orientation
 //   make_mesh_classifier mesh_classifier.cpp  xi(p) with Side_of_triangle_mesh
-//   brep_field / convex_csg_field  mesh_field.cpp, mesh_csg.cpp
+//   brep_distance / convex_csg     mesh_field.cpp, mesh_csg.cpp
+//   deficiency_csg / shells_csg    mesh_deficiency.cpp, mesh_shells.cpp
 
 #include <sage/classifier.hpp>
 #include <sage/expression.hpp>
