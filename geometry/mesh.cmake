@@ -5,4 +5,6 @@ target_sources(sage_geometry PRIVATE
   src/mesh_validation.cpp
   src/mesh_classifier.cpp
   src/mesh_field.cpp
-  src/mesh_csg.cpp)
+  src/mesh_csg.cpp
+  src/mesh_deficiency.cpp
+  src/mesh_shells.cpp)

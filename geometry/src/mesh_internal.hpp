@@ -6,7 +6,8 @@
 //   read_mesh_soup       mesh_reader.cpp      file -> points + triangles
 //   validate_mesh        mesh_validation.cpp  exact checks, outward orientation
 //   make_mesh_classifier mesh_classifier.cpp  xi(p) with Side_of_triangle_mesh
-//   brep_field / convex_csg_field  mesh_field.cpp, mesh_csg.cpp
+//   brep_distance / convex_csg     mesh_field.cpp, mesh_csg.cpp
+//   deficiency_csg / shells_csg    mesh_deficiency.cpp, mesh_shells.cpp
 
 #include <sage/classifier.hpp>
 #include <sage/expression.hpp>
@@ -97,5 +98,46 @@ struct ConvexCsg {
 /// returns nullopt (with the reason) when it is not convex.
 std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                                     const RSystem& system, std::string& reason);
+
+/// The well-formed CSG of a non-convex polyhedron by the convex deficiency
+/// decomposition (mesh_deficiency.cpp): at each component, the
+/// R-conjunction of its hull's planes (face planes, and bridges: hull planes
+/// carrying no face) AND NOT the R-disjunction of its deficiency
+/// components, recursively, with the faces reversed at odd depths.
+struct DeficiencyCsg {
+  Expr field;
+  std::vector<std::vector<std::size_t>> planes;  // triangles of each face plane (exactly coplanar, same side)
+  std::vector<std::size_t> plane_uses;           // leaves per face plane (1: used once)
+  std::size_t bridges = 0;                       // hull planes carrying no face
+  std::size_t nodes = 0;                         // components (the top one included)
+  int depth = 0;                                 // deepest component
+};
+
+/// Builds the decomposition of a closed, outward oriented, connected mesh;
+/// nullopt with the reason when it does not terminate (a component below
+/// the top with no face on its own hull), exceeds max_depth levels, or meets
+/// a degenerate component. Signs are exact by construction when every
+/// deficiency component is bounded by one edge-connected patch of faces;
+/// the caller checks them against point membership.
+std::optional<DeficiencyCsg> deficiency_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                                            const RSystem& system, int max_depth, std::string& reason);
+
+/// Several shells (mesh_shells.cpp): separate solids, cavities (their
+/// shells reversed bound solids), solids in cavities; each shell's own CSG
+/// (convex, else the deficiency decomposition), combined by nesting:
+/// solid AND NOT (union of what lies directly inside it), united at the top.
+struct ShellsCsg {
+  Expr field;
+  std::size_t solids = 0, cavities = 0;
+  std::vector<std::vector<std::size_t>> planes;  // face planes (soup triangles), shell by shell
+  std::size_t reused = 0;                        // face planes used more than once
+  std::size_t bridges = 0;
+  std::size_t nodes = 0;  // convex components over all shells
+  int depth = 0;
+};
+
+/// nullopt with the reason (naming the shell) when a shell's CSG fails.
+std::optional<ShellsCsg> shells_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                                    const RSystem& system, int max_depth, std::string& reason);
 
 }  // namespace sage::geometry::mesh

@@ -196,4 +196,23 @@ TEST(CliGeometry, MeshField) {
   expect_failure("field " + write_file("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n") + " -o " + out.string(), {"bad.off"});
 }
 
+// A non-convex mesh (an L-shaped prism) reaches the convex deficiency CSG
+// through sage info and sage field --method csg --rfunction.
+TEST(CliGeometry, NonConvexMeshCsg) {
+  const std::string path = write_file("l_prism.off",
+                                      "OFF\n12 8 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
+                                      "0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n"
+                                      "6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n4 0 1 7 6\n4 1 2 8 7\n"
+                                      "4 2 3 9 8\n4 3 4 10 9\n4 4 5 11 10\n4 5 0 6 11\n");
+  const Result info = run("info " + path + " --rfunction rp:2");
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("convex deficiency decomposition"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("8 face planes (each used once) and 1 bridge"), std::string::npos) << info.output;
+  EXPECT_NE(info.output.find("rp:2"), std::string::npos) << info.output;
+  const fs::path out = scratch("l_prism.vti");
+  const Result r = run("field " + path + " -o " + out.string() + " --method csg --grid 10x10x10 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(out), 0u);
+}
+
 }  // namespace

@@ -67,6 +67,9 @@ struct LoadOptions {
   /// Polygons (CSG): certify well-formedness by interval arithmetic
   /// (well_formedness.hpp) and add the result to the notes.
   bool certify = false;
+  /// Meshes (CSG): deepest level of the convex deficiency decomposition
+  /// before it is reported as not terminating.
+  int csg_depth_limit = 64;
 };
 
 /// Reads any geometry source sage knows, picked by extension (.json model
