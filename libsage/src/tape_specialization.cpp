@@ -39,38 +39,50 @@ bool TapeSpecializer::worthwhile(const Tape& tape) {
 }
 
 std::optional<Tape> TapeSpecializer::specialize(const Interval* box) {
-  if (!decide(box, false)) return std::nullopt;
+  if (!decide(box)) return std::nullopt;
   return rebuild();
 }
 
 namespace {
 
-// Whether an instruction is analytic wherever its arguments range over a
-// and b, given the pass's decision (pruned min/max nodes and constants are;
-// a kink or a root singularity that the intervals cannot exclude is not).
-bool analytic_over(const Instruction& ins, bool kept, const Interval& a, const Interval& b, const Interval& out) {
-  if (out.is_nan()) return false;
-  if (!kept) return true;  // a settled min/max, step or classifier
+using Jet = Tuple<3, 1>;  // value and gradient at a box's centre
+
+// First-order distance from the centre to the zero set of t: |t| / |grad t|.
+double zero_distance(const Jet& t) {
+  const auto g = t.gradient();
+  const double norm = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  const double d = std::abs(t.value()) / norm;
+  return std::isnan(d) ? 0.0 : d;
+}
+
+// Whether a kept instruction is analytic across the enlarged box, judged
+// from its arguments at the centre: every singular set (a root, a kink, the
+// corner of an R-function where both arguments vanish) must be farther
+// than `reach` by the first-order distance estimate. Interval enclosures
+// of deep R-function trees are too wide to show this; the estimate is not a
+// proof, and the fitted patch's coefficients are checked anyway.
+bool analytic_near(const Instruction& ins, const Jet& a, const Jet& b, const Jet& out, double reach) {
+  if (std::isnan(out.value())) return false;
   switch (ins.op) {
     case Op::Sqrt:
     case Op::Log:
-    case Op::PowReal: return a.lo > 0;
+    case Op::PowReal: return a.value() > 0 && zero_distance(a) > reach;
     case Op::Abs:
-    case Op::Step: return !a.contains_zero();
+    case Op::Step: return zero_distance(a) > reach;
     case Op::Div:
-    case Op::DivSafe: return !b.contains_zero();
-    case Op::PowInt: return ins.p0 >= 0 || !a.contains_zero();
+    case Op::DivSafe: return zero_distance(b) > reach;
+    case Op::PowInt: return ins.p0 >= 0 || zero_distance(a) > reach;
     case Op::Min:
-    case Op::Max:
-    case Op::Classify: return false;
+    case Op::Max: return zero_distance(a - b) > reach;
+    case Op::Classify: return false;  // unless settled over the box (not kept)
     case Op::RAnd:
     case Op::ROr: {
       const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
       // min/max (and R_alpha at alpha = 1) kink where the arguments meet;
       // the others are singular only where both vanish.
       if (s.kind == RKind::MinMax || (s.kind == RKind::RAlpha && s.parameter >= 1.0))
-        return a.hi < b.lo || b.hi < a.lo;
-      return !a.contains_zero() || !b.contains_zero();
+        return zero_distance(a - b) > reach;
+      return std::max(zero_distance(a), zero_distance(b)) > reach;
     }
     default: return true;
   }
@@ -78,14 +90,44 @@ bool analytic_over(const Instruction& ins, bool kept, const Interval& a, const I
 
 }  // namespace
 
-bool TapeSpecializer::decide(const Interval* box, bool analyticity) {
+void TapeSpecializer::mark_analytic(const Interval* box, double enlargement) {
+  const auto& code = tape_->code();
+  const int dimension = tape_->dimension();
+  double half_diagonal2 = 0;
+  std::array<double, 3> centre{0, 0, 0};
+  for (int a = 0; a < dimension; ++a) {
+    centre[a] = box[a].mid();
+    half_diagonal2 += 0.25 * box[a].width() * box[a].width();
+  }
+  const double reach = enlargement * std::sqrt(half_diagonal2);
+  jets_.resize(tape_->register_count());
+  for (const auto& [r, c] : tape_->constants()) jets_[r] = Jet(c);
+  for (int a = 0; a < dimension; ++a) jets_[static_cast<std::size_t>(a)] = Jet::variable(a, centre[a]);
+  analytic_.assign(code.size(), 0);
+  register_analytic_.assign(tape_->register_count(), 1);  // variables and constants
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    const Instruction& ins = code[i];
+    const Jet out = evaluate_instruction<Jet>(ins, jets_.data());
+    const int k = arity(ins.op);
+    bool analytic = true;
+    switch (fate_[i]) {
+      case Fate::FirstArgument: analytic = register_analytic_[ins.a]; break;  // as analytic as what it forwards
+      case Fate::SecondArgument: analytic = register_analytic_[ins.b]; break;
+      case Fate::Constant: break;
+      default:
+        analytic = (k < 1 || register_analytic_[ins.a]) && (k < 2 || register_analytic_[ins.b]) &&
+                   analytic_near(ins, jets_[ins.a], jets_[ins.b], out, reach);
+    }
+    analytic_[i] = analytic;
+    register_analytic_[ins.out] = analytic;
+    jets_[ins.out] = out;
+  }
+}
+
+bool TapeSpecializer::decide(const Interval* box) {
   for (int i = 0; i < tape_->dimension(); ++i) registers_[i] = box[i];
   bool pruned = false;
   const auto& code = tape_->code();
-  if (analyticity) {
-    analytic_.assign(code.size(), 0);
-    register_analytic_.assign(tape_->register_count(), 1);  // variables and constants
-  }
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
     Fate fate = Fate::Keep;
@@ -109,16 +151,6 @@ bool TapeSpecializer::decide(const Interval* box, bool analyticity) {
       out = apply<Interval>(ins, a, b);
       if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
-    if (analyticity) {
-      // A forwarded node is as analytic as the argument it forwards.
-      const int k = arity(ins.op);
-      bool args = true;
-      if (fate == Fate::FirstArgument) args = register_analytic_[ins.a];
-      else if (fate == Fate::SecondArgument) args = register_analytic_[ins.b];
-      else if (fate == Fate::Keep) args = (k < 1 || register_analytic_[ins.a]) && (k < 2 || register_analytic_[ins.b]);
-      analytic_[i] = args && analytic_over(ins, fate == Fate::Keep, a, b, out);
-      register_analytic_[ins.out] = analytic_[i];
-    }
     fate_[i] = fate;
     constant_[i] = out.lo;  // exact for the constant fates: step gives 0 or 1, classify one value
     pruned |= fate != Fate::Keep;
@@ -133,7 +165,8 @@ std::optional<Tape> TapeSpecializer::approximate(const Interval* box, const Appr
     const double half = 0.5 * box[a].width() * settings.enlargement;
     enlarged[a] = Interval(box[a].mid() - half, box[a].mid() + half);
   }
-  bool changed = decide(enlarged.data(), true);
+  bool changed = decide(enlarged.data());
+  mark_analytic(box, settings.enlargement);
   changed |= fit_patches(box, settings);
   if (!changed) return std::nullopt;
   return rebuild();

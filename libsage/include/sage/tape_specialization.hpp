@@ -16,17 +16,20 @@
 // never pruned: their fields are exact only when evaluated whole.
 //
 // Far-field approximation (approximate()) is for them: over a box, a
-// subtree whose every operation is analytic over an enlarged box (an
-// R-function with one argument's interval away from 0, a sqrt of a
-// positive interval, a settled min or classifier, ...) is smooth across the
-// box, so a Chebyshev patch (chebyshev_patch.hpp) fitted to its values at
-// Chebyshev points replaces it, when the patch's coefficients show it
-// within the tolerance. Far from a polygon's coast the whole field becomes
-// one patch; near it, the edges close by stay exact and the rest of the
-// coast is a few patches. The result is no longer bit-identical: its
-// deviation is the patches' tolerance, amplified by the operations above
-// them (R-function partial derivatives lie in [0, 2]), and is measured
-// against exact evaluation by tests and bench/gis_bench.
+// subtree whose every singular set (the corner of an R-function, where both
+// arguments vanish; the root of a sqrt; the kink of an unsettled min) lies
+// farther from the box centre than `enlargement` half-diagonals, by the
+// first-order estimate |f| / |grad f| from values and gradients at the
+// centre, is smooth across the box. A Chebyshev patch (chebyshev_patch.hpp)
+// fitted to its values at Chebyshev points then replaces it, if the
+// patch's coefficients show it within the tolerance. Far from a polygon's
+// coast the whole field becomes one patch; near it, the edges close by stay
+// exact and the rest of the coast is a few patches. Interval enclosures of
+// deep R-function trees are too wide to decide this, and the estimate is
+// not a proof: the result is no longer bit-identical, its deviation is the
+// patches' tolerance amplified by the operations above them (R-function
+// partial derivatives lie in [0, 2]), and tests and bench/gis_bench
+// measure it against exact evaluation.
 //
 //     TapeSpecializer specializer(tape);   // if TapeSpecializer::worthwhile(tape)
 //     std::array<Interval, 3> box{Interval(0, 1), Interval(0, 1), Interval(0)};
@@ -35,6 +38,7 @@
 
 #include <sage/interval.hpp>
 #include <sage/tape.hpp>
+#include <sage/tuple.hpp>
 
 #include <optional>
 #include <vector>
@@ -44,7 +48,7 @@ namespace sage {
 /// Settings of far-field approximation.
 struct Approximation {
   double tolerance = 0;        // absolute tail allowed per patch (field units)
-  double enlargement = 3;      // analyticity is proved over the box scaled by this about its centre
+  double enlargement = 3;      // singular sets must be this many half-diagonals from the box centre
   int sampling_degree = 12;    // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
   std::size_t min_subtree = 48;  // smaller subtrees are cheaper to run than a patch
 };
@@ -81,8 +85,11 @@ class TapeSpecializer {
   // What an instruction becomes over the box.
   enum class Fate : unsigned char { Keep, FirstArgument, SecondArgument, Constant, Patch };
 
-  // The interval pass: fates, enclosures, and (when asked) analyticity.
-  bool decide(const Interval* box, bool analyticity);
+  // The interval pass: fates and enclosures; true if anything was pruned.
+  bool decide(const Interval* box);
+  // Which instructions are analytic across the box enlarged (from values
+  // and gradients at its centre).
+  void mark_analytic(const Interval* box, double enlargement);
   // Fits patches to the largest analytic subtrees; true if any was made.
   bool fit_patches(const Interval* box, const Approximation& settings);
   Tape rebuild() const;
@@ -93,6 +100,7 @@ class TapeSpecializer {
   std::vector<double> constant_;  // the value, for Fate::Constant
   std::vector<char> analytic_;    // per instruction, over the last enlarged box
   std::vector<char> register_analytic_;
+  std::vector<Tuple<3, 1>> jets_;
   std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
   std::size_t patches_made_ = 0;
 };

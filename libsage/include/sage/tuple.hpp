@@ -182,7 +182,7 @@ Tuple<N, K> compose(const Tuple<N, K>& a, const std::array<double, K + 1>& g) {
 template <int K>
 std::array<double, K + 1> power_series(double a0, double r) {
   std::array<double, K + 1> g{};
-  g[0] = std::pow(a0, r);
+  g[0] = r == 0.5 ? std::sqrt(a0) : std::pow(a0, r);  // sqrt: several times faster than pow
   for (int k = 1; k <= K; ++k) g[k] = g[k - 1] * (r - k + 1) / (k * a0);
   return g;
 }
