@@ -148,8 +148,8 @@ TEST(FarFieldApproximation, FarBoxesBecomeOnePatchAndNearBoxesKeepTheirEdges) {
     const Tape& part = box == &centre ? *far : *near;
     Evaluator<Tuple<2, 1>> exact(tape), approximate(part);
     for (int k = 0; k < 500; ++k) {
-      const test::Point p{test::uniform(rng, (*box)[0].lo, (*box)[0].hi), test::uniform(rng, (*box)[1].lo, (*box)[1].hi),
-                          0};
+      const test::Point p{test::uniform(rng, (*box)[0].lo, (*box)[0].hi),
+                          test::uniform(rng, (*box)[1].lo, (*box)[1].hi), 0};
       const auto a = exact.at(p), b = approximate.at(p);
       EXPECT_NEAR(a.value(), b.value(), 4e-9);
       EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
