@@ -25,6 +25,25 @@ std::size_t find(std::vector<std::size_t>& parent, std::size_t i) {
 
 }  // namespace
 
+FacePlane face_plane(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                     const std::vector<std::size_t>& group) {
+  FacePlane out;
+  std::array<double, 3>&n = out.normal, &c = out.anchor;
+  double count = 0;
+  for (std::size_t f : group) {
+    const Point &a = points[triangles[f][0]], &b = points[triangles[f][1]], &d = points[triangles[f][2]];
+    const auto cr = CGAL::cross_product(b - a, d - a);
+    n[0] += cr.x(), n[1] += cr.y(), n[2] += cr.z();
+    for (const Point* p : {&a, &b, &d}) {
+      c[0] += p->x(), c[1] += p->y(), c[2] += p->z();
+      count += 1;
+    }
+  }
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  for (int i = 0; i < 3; ++i) n[i] /= len, c[i] /= count;
+  return out;
+}
+
 std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                                     const RSystem& system, std::string& reason) {
   const std::size_t nf = triangles.size();
@@ -87,20 +106,8 @@ std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std:
 
   std::vector<Expr> halfspaces;
   for (const auto& plane : out.planes) {
-    // Area-weighted normal and vertex centroid of the plane's triangles.
-    std::array<double, 3> n{0, 0, 0}, c{0, 0, 0};
-    double count = 0;
-    for (std::size_t f : plane) {
-      const Point &a = points[triangles[f][0]], &b = points[triangles[f][1]], &d = points[triangles[f][2]];
-      const auto cr = CGAL::cross_product(b - a, d - a);
-      n[0] += cr.x(), n[1] += cr.y(), n[2] += cr.z();
-      for (const Point* p : {&a, &b, &d}) {
-        c[0] += p->x(), c[1] += p->y(), c[2] += p->z();
-        count += 1;
-      }
-    }
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (int i = 0; i < 3; ++i) n[i] /= len, c[i] /= count;
+    const FacePlane fp = face_plane(points, triangles, plane);
+    const std::array<double, 3>&n = fp.normal, &c = fp.anchor;
     out.normals.push_back(n);
     out.anchors.push_back(c);
     halfspaces.push_back(halfspace(c, n, 3));

@@ -132,20 +132,8 @@ class Decomposition {
       plane_of_[f] = it->second;
     }
     for (const auto& plane : out_.planes) {
-      std::array<double, 3> n{0, 0, 0}, c{0, 0, 0};
-      double count = 0;
-      for (std::size_t f : plane) {
-        const Point &a = points_[triangles_[f][0]], &b = points_[triangles_[f][1]], &d = points_[triangles_[f][2]];
-        const auto cr = CGAL::cross_product(b - a, d - a);
-        n[0] += cr.x(), n[1] += cr.y(), n[2] += cr.z();
-        for (const Point* p : {&a, &b, &d}) {
-          c[0] += p->x(), c[1] += p->y(), c[2] += p->z();
-          count += 1;
-        }
-      }
-      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      for (int i = 0; i < 3; ++i) n[i] /= len, c[i] /= count;
-      leaves_.push_back(halfspace(c, n, 3));
+      const FacePlane fp = face_plane(points_, triangles_, plane);
+      leaves_.push_back(halfspace(fp.anchor, fp.normal, 3));
     }
     plane_uses_.assign(out_.planes.size(), 0);
   }

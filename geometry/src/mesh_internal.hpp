@@ -85,6 +85,15 @@ std::shared_ptr<const PointClassifier> make_mesh_classifier(const std::vector<Po
 Expr brep_distance(const std::vector<Point>& points, const std::vector<Triangle>& triangles, const RSystem& glue_system,
                    const RSystem& trim_system, bool orthogonalize);
 
+/// The plane of a group of coplanar triangles: the area-weighted outward
+/// unit normal and the centroid of their vertices (mesh_csg.cpp).
+struct FacePlane {
+  std::array<double, 3> normal{0, 0, 0};
+  std::array<double, 3> anchor{0, 0, 0};
+};
+FacePlane face_plane(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
+                     const std::vector<std::size_t>& group);
+
 /// The well-formed CSG of a convex polyhedron: one halfspace per distinct
 /// face plane (coplanar adjacent faces merged), R-conjunction of them.
 struct ConvexCsg {
