@@ -63,8 +63,8 @@ double sample_grid(const sage::Expr& field, const sage::Grid& grid, int threads,
 }
 
 struct Deviation {
-  double value = 0;     // largest |approximate - exact| over the points
-  double gradient = 0;  // largest |grad approximate - grad exact|
+  double value = 0;                    // largest |approximate - exact| over the points
+  double gradient = 0;                 // largest |grad approximate - grad exact|
   double exact_seconds_per_point = 0;  // value and gradient, whole tape, one thread
   std::size_t wrong_signs = 0;
 };
@@ -82,7 +82,8 @@ Deviation measure_deviation(const sage::Expr& field, const sage::FieldSamples& s
     const std::size_t i = pick(rng);
     const auto t = exact.at(samples.grid.point(i));
     d.value = std::max(d.value, std::abs(t.value() - samples.omega[i]));
-    d.gradient = std::max(d.gradient, std::hypot(t.c[1] - samples.gradient[3 * i], t.c[2] - samples.gradient[3 * i + 1]));
+    d.gradient =
+        std::max(d.gradient, std::hypot(t.c[1] - samples.gradient[3 * i], t.c[2] - samples.gradient[3 * i + 1]));
     d.wrong_signs += (t.value() > 0) != (samples.omega[i] > 0);
   }
   d.exact_seconds_per_point = seconds(start) / static_cast<double>(count);
@@ -188,12 +189,14 @@ int main(int argc, char** argv) {
   if (argc > 5) approximation.enlargement = std::stod(argv[5]);
   if (argc > 6) approximation.sampling_degree = std::stoi(argv[6]);
   const std::size_t checks = 2000;
-  std::printf("\nwith far-field approximation, tolerance %.0e of the diagonal (%.3g), enlargement %.1f, sampling degree"
-              " %d, on %dx%d;\n",
-              relative_tolerance, approximation.tolerance, approximation.enlargement, approximation.sampling_degree, m, m);
-  std::printf("deviation from exact value + gradient at %zu random grid points, brute force = exact value + gradient"
-              " of the whole tape at every point, one thread:\n",
-              checks);
+  std::printf(
+      "\nwith far-field approximation, tolerance %.0e of the diagonal (%.3g), enlargement %.1f, sampling degree"
+      " %d, on %dx%d;\n",
+      relative_tolerance, approximation.tolerance, approximation.enlargement, approximation.sampling_degree, m, m);
+  std::printf(
+      "deviation from exact value + gradient at %zu random grid points, brute force = exact value + gradient"
+      " of the whole tape at every point, one thread:\n",
+      checks);
   std::printf("%-16s %12s %12s %14s %14s %12s %12s %8s\n", "field", "1 thread s", "all cores s", "brute 1 thr s",
               "speed-up", "max |dw|/D", "max |dgrad|", "signs");
   for (const auto& [c, field, brute_per_point] : fields) {

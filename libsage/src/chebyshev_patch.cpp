@@ -38,8 +38,8 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   std::vector<double> t(m * m);
   for (std::size_t i = 0; i < m; ++i)
     for (std::size_t k = 0; k < m; ++k)
-      t[i * m + k] = std::cos(std::numbers::pi * static_cast<double>(i) * (static_cast<double>(k) + 0.5) /
-                              static_cast<double>(m));
+      t[i * m + k] =
+          std::cos(std::numbers::pi * static_cast<double>(i) * (static_cast<double>(k) + 0.5) / static_cast<double>(m));
 
   // The discrete Chebyshev transform along each axis in turn.
   std::vector<double> c = f, next(total);
@@ -111,7 +111,8 @@ void chebyshev_basis(const Interval& u, int d, Interval* t) {
   // T_k(cos theta) = cos(k theta); acos is decreasing, and glibc's acos is
   // within an ulp or so: two ulps outward are enough.
   const double lo = std::clamp(u.lo, -1.0, 1.0), hi = std::clamp(u.hi, -1.0, 1.0);
-  const Interval theta(std::max(0.0, down(std::acos(hi), 2)), std::min(std::numbers::pi * (1 + 1e-15), up(std::acos(lo), 2)));
+  const Interval theta(std::max(0.0, down(std::acos(hi), 2)),
+                       std::min(std::numbers::pi * (1 + 1e-15), up(std::acos(lo), 2)));
   for (int k = 0; k <= d; ++k) {
     const Interval v = k == 0 ? Interval(1.0) : cos(Interval(static_cast<double>(k)) * theta);
     t[k] = Interval(std::max(v.lo, -1.0), std::min(v.hi, 1.0));

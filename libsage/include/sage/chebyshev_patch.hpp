@@ -94,8 +94,7 @@ T ChebyshevPatch::evaluate(const T* vars) const {
   constexpr int kMaxDegree = 16;  // fit() refuses larger sampling degrees
   T basis[3][kMaxDegree + 1];
   const int d = degree_;
-  for (int a = 0; a < dimension_; ++a)
-    detail::chebyshev_basis((vars[a] - centre_[a]) * inverse_half_[a], d, basis[a]);
+  for (int a = 0; a < dimension_; ++a) detail::chebyshev_basis((vars[a] - centre_[a]) * inverse_half_[a], d, basis[a]);
   const double* c = coefficients_.data();
   T sum(0.0);
   if (dimension_ == 1) {
