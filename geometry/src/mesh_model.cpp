@@ -41,6 +41,22 @@ std::string face_list(const mesh::Soup& soup, const std::vector<std::size_t>& tr
   return s;
 }
 
+/// The face planes as primitives for `sage info`, the first
+/// kListedPrimitives of them and a count.
+void list_planes(Model& model, const mesh::Soup& soup, const std::vector<std::vector<std::size_t>>& planes) {
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    if (i == kListedPrimitives) {
+      model.primitives.push_back({"", "planes", "... " + std::to_string(planes.size()) + " planes in all"});
+      break;
+    }
+    model.primitives.push_back({"", "plane", face_list(soup, planes[i])});
+  }
+}
+
+std::string plane_reuse(std::size_t reused) {
+  return reused ? std::to_string(reused) + " used more than once" : std::string("each used once");
+}
+
 struct SignCheck {
   std::size_t points = 0, mismatches = 0;
   std::array<double, 3> first{0, 0, 0};  // the first mismatch
@@ -143,13 +159,7 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
       model.notes.push_back("method: csg; the polyhedron is convex (checked exactly): R-conjunction (" +
                             model.rfunction.name() + ", balanced tree) of " + std::to_string(csg->planes.size()) +
                             " face halfspaces, each plane used once (coplanar adjacent faces merged)");
-      for (std::size_t i = 0; i < csg->planes.size(); ++i) {
-        if (i == kListedPrimitives) {
-          model.primitives.push_back({"", "planes", "... " + std::to_string(csg->planes.size()) + " planes in all"});
-          break;
-        }
-        model.primitives.push_back({"", "plane", face_list(soup, csg->planes[i])});
-      }
+      list_planes(model, soup, csg->planes);
       return model;
     }
     if (valid.components > 1) {
@@ -165,21 +175,12 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
                << " cavity boundaries), each its own CSG (convex, or the convex deficiency "
                << "decomposition), combined by nesting (solid AND NOT what lies directly inside it, "
                << model.rfunction.name() << "); " << shells->nodes << " convex components, depth " << shells->depth
-               << "; " << shells->planes.size() << " face planes ("
-               << (shells->reused ? std::to_string(shells->reused) + " used more than once"
-                                  : std::string("each used once"))
-               << ") and " << shells->bridges << " bridge planes (hull planes carrying no face)";
+               << "; " << shells->planes.size() << " face planes (" << plane_reuse(shells->reused) << ") and "
+               << shells->bridges << " bridge planes (hull planes carrying no face)";
           model.notes.push_back(note.str());
           model.notes.push_back("csg sign check: agrees with exact point membership (CGAL) at " +
                                 std::to_string(check.points) + " points");
-          for (std::size_t i = 0; i < shells->planes.size(); ++i) {
-            if (i == kListedPrimitives) {
-              model.primitives.push_back(
-                  {"", "planes", "... " + std::to_string(shells->planes.size()) + " planes in all"});
-              break;
-            }
-            model.primitives.push_back({"", "plane", face_list(soup, shells->planes[i])});
-          }
+          list_planes(model, soup, shells->planes);
           return model;
         }
         reason = "the nested shells' CSG disagrees with exact point membership at " + std::to_string(check.mismatches) +
@@ -203,19 +204,12 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
                << deficiency->nodes << " components, depth " << deficiency->depth
                << "; each component = R-conjunction (" << model.rfunction.name()
                << ") of its hull planes AND NOT its deficiencies; " << deficiency->planes.size() << " face planes ("
-               << (reused ? std::to_string(reused) + " used more than once" : std::string("each used once")) << ") and "
-               << deficiency->bridges << " bridge planes (hull planes carrying no face)";
+               << plane_reuse(reused) << ") and " << deficiency->bridges
+               << " bridge planes (hull planes carrying no face)";
           model.notes.push_back(note.str());
           model.notes.push_back("csg sign check: agrees with exact point membership (CGAL) at " +
                                 std::to_string(check.points) + " points");
-          for (std::size_t i = 0; i < deficiency->planes.size(); ++i) {
-            if (i == kListedPrimitives) {
-              model.primitives.push_back(
-                  {"", "planes", "... " + std::to_string(deficiency->planes.size()) + " planes in all"});
-              break;
-            }
-            model.primitives.push_back({"", "plane", face_list(soup, deficiency->planes[i])});
-          }
+          list_planes(model, soup, deficiency->planes);
           return model;
         }
         std::ostringstream why;
