@@ -6,12 +6,6 @@
 
 namespace sage {
 
-std::vector<double> ChebyshevPatch::nodes(int n) {
-  std::vector<double> u(static_cast<std::size_t>(n + 1));
-  for (int k = 0; k <= n; ++k) u[static_cast<std::size_t>(k)] = std::cos(std::numbers::pi * (k + 0.5) / (n + 1));
-  return u;
-}
-
 std::array<double, 3> ChebyshevPatch::sample_point(const Interval* box, int dimension, int n, std::size_t k) {
   std::array<double, 3> p{0, 0, 0};
   const std::size_t m = static_cast<std::size_t>(n + 1);

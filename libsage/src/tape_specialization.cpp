@@ -245,7 +245,6 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
     if (!patch) continue;
     fate_[candidates[k]] = Fate::Patch;
     patch_[candidates[k]] = std::move(patch);
-    ++patches_made_;
     made = true;
   }
   return made;

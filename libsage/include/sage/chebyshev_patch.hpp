@@ -38,11 +38,9 @@ namespace sage {
 
 class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
  public:
-  /// Chebyshev points of the first kind, cos(pi (k + 1/2) / (n + 1)), k = 0..n.
-  static std::vector<double> nodes(int n);
-
   /// The sampling point for tensor node index k (k_0 fastest) of a box:
-  /// coordinates of dimension `dimension`; box has that many intervals.
+  /// the Chebyshev points of the first kind, cos(pi (k_a + 1/2) / (n + 1)),
+  /// mapped onto each axis; box has `dimension` intervals.
   static std::array<double, 3> sample_point(const Interval* box, int dimension, int n, std::size_t k);
 
   /// Fits the values f at the (n + 1)^dimension sample points (sample_point
@@ -56,7 +54,6 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   int degree() const { return degree_; }
   /// The sum of |c_alpha| left out (the error estimate of the fit).
   double tail() const { return tail_; }
-  std::size_t coefficient_count() const { return coefficients_.size(); }
 
   /// The polynomial at the point whose coordinates are vars[0..dimension-1].
   template <class T>

@@ -67,10 +67,8 @@ class TapeSpecializer {
   /// Specializes over `box` as specialize() does, with the min/max and
   /// constant decisions taken over the enlarged box, and also replaces the
   /// largest analytic subtrees by Chebyshev patches fitted over `box` (see
-  /// above). Returns nothing when nothing changed. Patches count in
-  /// patches_made().
+  /// above). Returns nothing when nothing changed.
   std::optional<Tape> approximate(const Interval* box, const Approximation& settings);
-  std::size_t patches_made() const { return patches_made_; }
 
   /// Whether enough of `tape`'s instructions could ever be dropped (min,
   /// max, min/max R-function nodes, steps, point classifiers: at least one
@@ -102,7 +100,6 @@ class TapeSpecializer {
   std::vector<char> register_analytic_;
   std::vector<Tuple<3, 1>> jets_;
   std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
-  std::size_t patches_made_ = 0;
 };
 
 }  // namespace sage
