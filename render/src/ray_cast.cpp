@@ -90,7 +90,7 @@ std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, dou
     std::unique_ptr<Evaluator<Interval>> eval;
   };
   std::vector<Pruned> tapes;
-  if (specialize_) tapes.push_back({field_, nullptr, nullptr});
+  if (specialize_) tapes.push_back({field_, nullptr, nullptr, nullptr});
   std::vector<Segment> stack{{t0, t1, 0, 0}};
   // A leaf that may hold the surface without a sign change at its ends. It
   // is often only the overestimation next to a crossing in the following
@@ -114,7 +114,7 @@ std::optional<double> RayCaster::bisect_intervals(const Ray& ray, double t0, dou
       if (smaller && !(!f.is_nan() && f.hi < 0)) {
         auto owned = std::make_unique<Tape>(std::move(*smaller));
         const Tape* raw = owned.get();
-        tapes.push_back({raw, std::move(owned), nullptr});
+        tapes.push_back({raw, std::move(owned), nullptr, nullptr});
         child_tape = static_cast<int>(tapes.size()) - 1;
       }
     } else {
