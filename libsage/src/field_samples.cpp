@@ -43,7 +43,7 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
 
   for_each_grid_point_pruned<T>(
       tape, grid,
-      [&](std::size_t p, const Evaluator<T>& eval) {
+      [&](std::size_t p, const auto& eval) {
         const T& t = eval.result();
         s.omega[p] = t.value();
         double norm2 = 0;

@@ -26,8 +26,25 @@ bool is_instruction(Source s) { return s >= 0; }
 
 }  // namespace
 
-TapeSpecializer::TapeSpecializer(const Tape& tape)
-    : tape_(&tape), registers_(tape.register_count()), fate_(tape.code().size()), constant_(tape.code().size()) {
+struct TapeSpecializer::Scratch {
+  std::vector<Source> source_of_register;
+  std::vector<double> constants;
+  std::vector<Source> arg_a, arg_b, roots;
+  std::vector<char> live, constant_live;
+  std::vector<std::size_t> last_use;
+  std::vector<std::uint32_t> constant_register, reg, free_registers;
+};
+
+TapeSpecializer::TapeSpecializer(const Tape& tape) : scratch_(std::make_unique<Scratch>()) { rebind(tape); }
+TapeSpecializer::~TapeSpecializer() = default;
+TapeSpecializer::TapeSpecializer(TapeSpecializer&&) noexcept = default;
+TapeSpecializer& TapeSpecializer::operator=(TapeSpecializer&&) noexcept = default;
+
+void TapeSpecializer::rebind(const Tape& tape) {
+  tape_ = &tape;
+  registers_.resize(tape.register_count());
+  fate_.resize(tape.code().size());
+  constant_.resize(tape.code().size());
   for (const auto& [r, c] : tape.constants()) registers_[r] = Interval(c);
 }
 
@@ -250,70 +267,71 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   return made;
 }
 
-Tape TapeSpecializer::rebuild() const {
+Tape TapeSpecializer::rebuild() {
   const auto& code = tape_->code();
   const int dimension = tape_->dimension();
   const std::size_t n = code.size();
+  Scratch& w = *scratch_;
 
   // Forward: the source of every register as the code runs, with dropped
   // instructions forwarding their chosen argument.
-  std::vector<Source> source_of_register(tape_->register_count(), 0);
-  std::vector<double> constants;
-  for (int v = 0; v < dimension; ++v) source_of_register[v] = kVariable - v;
+  w.source_of_register.resize(tape_->register_count());
+  w.constants.clear();
+  for (int v = 0; v < dimension; ++v) w.source_of_register[v] = kVariable - v;
   for (const auto& [r, c] : tape_->constants()) {
-    source_of_register[r] = kConstant - static_cast<Source>(constants.size());
-    constants.push_back(c);
+    w.source_of_register[r] = kConstant - static_cast<Source>(w.constants.size());
+    w.constants.push_back(c);
   }
-  std::vector<Source> arg_a(n), arg_b(n), result(n);
+  w.arg_a.resize(n);
+  w.arg_b.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
-    arg_a[i] = source_of_register[ins.a];
-    arg_b[i] = source_of_register[ins.b];
+    w.arg_a[i] = w.source_of_register[ins.a];
+    w.arg_b[i] = w.source_of_register[ins.b];
+    Source result = static_cast<Source>(i);  // Keep, Patch
     switch (fate_[i]) {
       case Fate::Keep:
-      case Fate::Patch: result[i] = static_cast<Source>(i); break;
-      case Fate::FirstArgument: result[i] = arg_a[i]; break;
-      case Fate::SecondArgument: result[i] = arg_b[i]; break;
+      case Fate::Patch: break;
+      case Fate::FirstArgument: result = w.arg_a[i]; break;
+      case Fate::SecondArgument: result = w.arg_b[i]; break;
       case Fate::Constant:
-        result[i] = kConstant - static_cast<Source>(constants.size());
-        constants.push_back(constant_[i]);
+        result = kConstant - static_cast<Source>(w.constants.size());
+        w.constants.push_back(constant_[i]);
         break;
     }
-    source_of_register[ins.out] = result[i];
+    w.source_of_register[ins.out] = result;
   }
-  std::vector<Source> roots;
-  for (std::uint32_t r : tape_->results()) roots.push_back(source_of_register[r]);
+  w.roots.clear();
+  for (std::uint32_t r : tape_->results()) w.roots.push_back(w.source_of_register[r]);
 
-  // Backward: live instructions (kept, and read by a live one or a root).
-  std::vector<char> live(n, 0);
-  std::vector<char> constant_live(constants.size(), 0);
-  auto mark = [&](Source s) {
-    if (is_instruction(s))
-      live[static_cast<std::size_t>(s)] = 1;
-    else if (s <= kConstant)
-      constant_live[static_cast<std::size_t>(kConstant - s)] = 1;
+  // Backward: live instructions (kept, and read by a live one or a root),
+  // and the last reader of each: the first one met going backward. Roots
+  // are read forever.
+  constexpr std::size_t kForever = static_cast<std::size_t>(-1);
+  w.live.assign(n, 0);
+  w.constant_live.assign(w.constants.size(), 0);
+  w.last_use.resize(n);
+  std::size_t live_count = 0;
+  auto mark = [&](Source s, std::size_t reader) {
+    if (is_instruction(s)) {
+      const auto j = static_cast<std::size_t>(s);
+      if (w.live[j]) return;
+      w.live[j] = 1;
+      w.last_use[j] = reader;
+      ++live_count;
+    } else if (s <= kConstant) {
+      w.constant_live[static_cast<std::size_t>(kConstant - s)] = 1;
+    }
   };
-  for (Source r : roots) mark(r);
+  for (Source r : w.roots) mark(r, kForever);
   // A patch reads no registers: its subtree dies unless used elsewhere.
   auto arguments = [&](std::size_t i) { return fate_[i] == Fate::Patch ? 0 : arity(code[i].op); };
   for (std::size_t i = n; i-- > 0;) {
-    if (!live[i]) continue;
+    if (!w.live[i]) continue;
     const int k = arguments(i);
-    if (k >= 1) mark(arg_a[i]);
-    if (k >= 2) mark(arg_b[i]);
+    if (k >= 1) mark(w.arg_a[i], i);
+    if (k >= 2) mark(w.arg_b[i], i);
   }
-
-  // Last reader of every live instruction's result; roots are read forever.
-  constexpr std::size_t kForever = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> last_use(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!live[i]) continue;
-    const int k = arguments(i);
-    if (k >= 1 && is_instruction(arg_a[i])) last_use[static_cast<std::size_t>(arg_a[i])] = i;
-    if (k >= 2 && is_instruction(arg_b[i])) last_use[static_cast<std::size_t>(arg_b[i])] = i;
-  }
-  for (Source r : roots)
-    if (is_instruction(r)) last_use[static_cast<std::size_t>(r)] = kForever;
 
   // Emit: variables in their fixed registers, live constants next, then the
   // live instructions with registers reused after their last read.
@@ -321,22 +339,22 @@ Tape TapeSpecializer::rebuild() const {
   t.dimension_ = dimension;
   t.classifiers_ = tape_->classifiers_;
   t.registers_ = static_cast<std::size_t>(dimension);
-  std::vector<std::uint32_t> constant_register(constants.size(), 0);
-  for (std::size_t k = 0; k < constants.size(); ++k) {
-    if (!constant_live[k]) continue;
-    constant_register[k] = static_cast<std::uint32_t>(t.registers_++);  // never reused
-    t.constants_.emplace_back(constant_register[k], constants[k]);
+  w.constant_register.resize(w.constants.size());
+  for (std::size_t k = 0; k < w.constants.size(); ++k) {
+    if (!w.constant_live[k]) continue;
+    w.constant_register[k] = static_cast<std::uint32_t>(t.registers_++);  // never reused
+    t.constants_.emplace_back(w.constant_register[k], w.constants[k]);
   }
-  std::vector<std::uint32_t> reg(n, 0);
+  w.reg.resize(n);
   auto register_of = [&](Source s) -> std::uint32_t {
-    if (is_instruction(s)) return reg[static_cast<std::size_t>(s)];
-    if (s <= kConstant) return constant_register[static_cast<std::size_t>(kConstant - s)];
+    if (is_instruction(s)) return w.reg[static_cast<std::size_t>(s)];
+    if (s <= kConstant) return w.constant_register[static_cast<std::size_t>(kConstant - s)];
     return Tape::variable_register(static_cast<int>(kVariable - s));
   };
-  std::vector<std::uint32_t> free_registers;
-  t.code_.reserve(static_cast<std::size_t>(std::count(live.begin(), live.end(), 1)));
+  w.free_registers.clear();
+  t.code_.reserve(live_count);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!live[i]) continue;
+    if (!w.live[i]) continue;
     Instruction ins = code[i];
     if (fate_[i] == Fate::Patch) {
       ins.op = Op::Patch;
@@ -346,25 +364,25 @@ Tape TapeSpecializer::rebuild() const {
     } else if (ins.op == Op::Patch) {
       t.patches_.push_back(ins.patch->shared_from_this());
     }
+    const Source a = w.arg_a[i], b = w.arg_b[i];
     const int k = arguments(i);
-    if (k >= 1) ins.a = register_of(arg_a[i]);
-    if (k >= 2) ins.b = register_of(arg_b[i]);
+    if (k >= 1) ins.a = register_of(a);
+    if (k >= 2) ins.b = register_of(b);
     // Free arguments read for the last time (once, if both are the same
     // value); the output may reuse one, as in Tape's compiler.
-    if (k >= 1 && is_instruction(arg_a[i]) && last_use[static_cast<std::size_t>(arg_a[i])] == i)
-      free_registers.push_back(ins.a);
-    if (k >= 2 && arg_b[i] != arg_a[i] && is_instruction(arg_b[i]) && last_use[static_cast<std::size_t>(arg_b[i])] == i)
-      free_registers.push_back(ins.b);
-    if (!free_registers.empty()) {
-      ins.out = free_registers.back();
-      free_registers.pop_back();
+    if (k >= 1 && is_instruction(a) && w.last_use[static_cast<std::size_t>(a)] == i) w.free_registers.push_back(ins.a);
+    if (k >= 2 && b != a && is_instruction(b) && w.last_use[static_cast<std::size_t>(b)] == i)
+      w.free_registers.push_back(ins.b);
+    if (!w.free_registers.empty()) {
+      ins.out = w.free_registers.back();
+      w.free_registers.pop_back();
     } else {
       ins.out = static_cast<std::uint32_t>(t.registers_++);
     }
-    reg[i] = ins.out;
+    w.reg[i] = ins.out;
     t.code_.push_back(ins);
   }
-  for (Source r : roots) t.results_.push_back(register_of(r));
+  for (Source r : w.roots) t.results_.push_back(register_of(r));
   return t;
 }
 

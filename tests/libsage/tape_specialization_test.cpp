@@ -118,7 +118,7 @@ TEST(PrunedGrid, EveryPointOnceIn3D) {
   grid.points = {17, 9, 13};
   std::vector<int> visits(grid.size(), 0);
   std::vector<double> value(grid.size());
-  for_each_grid_point_pruned<double>(tape, grid, [&](std::size_t i, const Evaluator<double>& ev) {
+  for_each_grid_point_pruned<double>(tape, grid, [&](std::size_t i, const auto& ev) {
     ++visits[i];
     value[i] = ev.result();
   });

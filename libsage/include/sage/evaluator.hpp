@@ -23,6 +23,12 @@
 #include <array>
 #include <vector>
 
+#if defined(__GNUC__)
+#define SAGE_ALWAYS_INLINE [[gnu::always_inline]] inline
+#else
+#define SAGE_ALWAYS_INLINE inline
+#endif
+
 namespace sage {
 
 /// How to seed independent variable `var` at `value` in scalar type T.
@@ -46,42 +52,64 @@ Tuple<N, K> classify_at(const PointClassifier& c, const Tuple<N, K>* vars) {
   return Tuple<N, K>(c.classify(p));
 }
 
-/// One operation of the table, generic over the scalar type.
+/// Operation `op` of the table, generic over the scalar type.
+template <Op op, class T>
+SAGE_ALWAYS_INLINE T apply_op(const Instruction& ins, const T& a, const T& b) {
+  if constexpr (op == Op::Neg)
+    return -a;
+  else if constexpr (op == Op::Square)
+    return square(a);
+  else if constexpr (op == Op::Sqrt)
+    return sqrt(a);
+  else if constexpr (op == Op::Exp)
+    return exp(a);
+  else if constexpr (op == Op::Log)
+    return log(a);
+  else if constexpr (op == Op::Sin)
+    return sin(a);
+  else if constexpr (op == Op::Cos)
+    return cos(a);
+  else if constexpr (op == Op::Abs)
+    return abs(a);
+  else if constexpr (op == Op::Step)
+    return step(a);
+  else if constexpr (op == Op::PowInt)
+    return pow_int(a, static_cast<int>(ins.p0));
+  else if constexpr (op == Op::PowReal)
+    return pow_real(a, ins.p0);
+  else if constexpr (op == Op::Add)
+    return a + b;
+  else if constexpr (op == Op::Sub)
+    return a - b;
+  else if constexpr (op == Op::Mul)
+    return a * b;
+  else if constexpr (op == Op::Div)
+    return a / b;
+  else if constexpr (op == Op::DivSafe)
+    return div_safe(a, b);
+  else if constexpr (op == Op::Min)
+    return min(a, b);
+  else if constexpr (op == Op::Max)
+    return max(a, b);
+  else if constexpr (op == Op::Axpby)
+    return a * ins.p0 + b * ins.p1;
+  else if constexpr (op == Op::RAnd || op == Op::ROr) {
+    const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
+    // min/max nodes fill large CSG trees: spare them the general call.
+    if (s.kind == RKind::MinMax) return op == Op::RAnd ? min(a, b) : max(a, b);
+    return r_combine(a, b, s, op == Op::RAnd ? -1.0 : 1.0);
+  } else if constexpr (op == Op::Const)
+    return T(ins.p0);
+  // Classify and Patch need the point: evaluate_instruction handles them.
+  // Variables are never in code: they live in fixed registers.
+  else
+    return a;
+}
+
+/// One operation of the table, chosen at run time.
 template <class T>
 T apply(const Instruction& ins, const T& a, const T& b) {
-  switch (ins.op) {
-    case Op::Neg: return -a;
-    case Op::Square: return square(a);
-    case Op::Sqrt: return sqrt(a);
-    case Op::Exp: return exp(a);
-    case Op::Log: return log(a);
-    case Op::Sin: return sin(a);
-    case Op::Cos: return cos(a);
-    case Op::Abs: return abs(a);
-    case Op::Step: return step(a);
-    case Op::PowInt: return pow_int(a, static_cast<int>(ins.p0));
-    case Op::PowReal: return pow_real(a, ins.p0);
-    case Op::Add: return a + b;
-    case Op::Sub: return a - b;
-    case Op::Mul: return a * b;
-    case Op::Div: return a / b;
-    case Op::DivSafe: return div_safe(a, b);
-    case Op::Min: return min(a, b);
-    case Op::Max: return max(a, b);
-    case Op::Axpby: return a * ins.p0 + b * ins.p1;
-    case Op::RAnd:
-    case Op::ROr: {
-      const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
-      return r_combine(a, b, s, ins.op == Op::RAnd ? -1.0 : 1.0);
-    }
-    case Op::Const: return T(ins.p0);
-    case Op::Classify:
-    case Op::Patch: break;  // need the point: evaluate_instruction handles them
-    case Op::VarX:
-    case Op::VarY:
-    case Op::VarZ: break;  // never in code: variables live in fixed registers
-  }
-  return a;
+  return visit_op(ins.op, [&](auto op) -> T { return apply_op<decltype(op)::value>(ins, a, b); });
 }
 
 /// One instruction over registers `regs` (variables in 0..dimension-1).

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string_view>
+#include <type_traits>
 
 namespace sage {
 
@@ -65,6 +66,24 @@ constexpr std::string_view op_name(Op op) {
 #undef SAGE_OP_NAME
   }
   return "?";
+}
+
+/// A compile-time operation, for code generic over the table.
+template <Op op>
+using OpTag = std::integral_constant<Op, op>;
+
+/// Calls f(OpTag<op>{}): one switch turns a run-time operation into a
+/// compile-time one, so a loop over many points can be decoded once
+/// (evaluator.hpp) while each operation is still written only once.
+template <class F>
+constexpr decltype(auto) visit_op(Op op, F&& f) {
+  switch (op) {
+#define SAGE_OP_VISIT(name, id, text, ar) \
+  case Op::name: return f(OpTag<Op::name>{});
+    SAGE_OPCODES(SAGE_OP_VISIT)
+#undef SAGE_OP_VISIT
+  }
+  return f(OpTag<Op::Const>{});  // not reached: the switch is exhaustive
 }
 
 /// Operations that appear in tapes only, never in expression graphs: the

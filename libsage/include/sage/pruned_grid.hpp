@@ -13,12 +13,15 @@
 // not bit-identical, within the stated tolerance, and fast for R-function
 // trees that pruning cannot touch.
 
+#include <sage/batch_evaluator.hpp>
 #include <sage/grid.hpp>
 #include <sage/tape_specialization.hpp>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <memory>
 
 namespace sage {
 
@@ -44,9 +47,10 @@ inline std::array<Interval, 3> block_box(const Grid& grid, const GridBlock& b) {
   return box;
 }
 
-constexpr std::size_t kLeafPoints = 16;  // evaluate point by point below this
-constexpr std::size_t kSmallTape = 16;   // too short to be worth specializing
-constexpr int kTaskDepth = 8;            // deeper blocks run in their parent's task
+constexpr std::size_t kLeafPoints = 32;   // evaluate point by point below this
+constexpr std::size_t kSmallTape = 16;    // too short to be worth specializing
+constexpr int kTaskDepth = 8;             // deeper blocks run in their parent's task
+constexpr std::size_t kBatchPoints = 64;  // points per BatchEvaluator run
 
 /// How blocks are specialized: exact pruning (where worthwhile) and, with
 /// an approximation, patches over blocks of at least patch_points points.
@@ -70,13 +74,26 @@ inline BlockPlan plan_for(const Tape& tape, const Grid& grid, const Approximatio
   return plan;
 }
 
+/// This thread's specializer, rebound to `tape`: its buffers are reused by
+/// every block the thread specializes (and kept until the thread ends). A
+/// block uses it only before it spawns its children's tasks, so tasks that
+/// the thread interleaves never share it mid-use.
+inline TapeSpecializer& thread_specializer(const Tape& tape) {
+  thread_local std::unique_ptr<TapeSpecializer> specializer;
+  if (specializer)
+    specializer->rebind(tape);
+  else
+    specializer = std::make_unique<TapeSpecializer>(tape);
+  return *specializer;
+}
+
 template <class T, class Visit>
 void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Visit& visit, int depth,
                  std::atomic<std::size_t>& done, const Progress& progress, const BlockPlan& plan) {
   const bool patch = plan.approximation && block.size() >= plan.patch_points;
   const bool prune = plan.prune && block.size() > kLeafPoints;
   if ((patch || prune) && tape.code().size() > kSmallTape) {
-    TapeSpecializer specializer(tape);
+    TapeSpecializer& specializer = thread_specializer(tape);
     const std::array<Interval, 3> box = block_box(grid, block);
     const std::optional<Tape> smaller =
         patch ? specializer.approximate(box.data(), *plan.approximation) : specializer.specialize(box.data());
@@ -102,16 +119,25 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
 #pragma omp taskwait
     return;
   }
-  Evaluator<T> eval(tape);
+  // The block's points, in batches run by one BatchEvaluator.
+  BatchEvaluator<T> batch(tape, std::min(block.size(), kBatchPoints));
+  std::array<std::size_t, kBatchPoints> index{};
+  std::array<std::array<double, 3>, kBatchPoints> point{};
+  std::size_t count = 0;
+  auto flush = [&] {
+    batch.evaluate(point.data(), count);
+    for (std::size_t l = 0; l < count; ++l) visit(index[l], batch.point(l));
+    count = 0;
+  };
   const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
   for (int k = block.lo[2]; k < block.hi[2]; ++k)
     for (int j = block.lo[1]; j < block.hi[1]; ++j)
       for (int i = block.lo[0]; i < block.hi[0]; ++i) {
-        const std::size_t index = static_cast<std::size_t>(i) + nx * (static_cast<std::size_t>(j) + ny * k);
-        const auto p = grid.point(index);
-        eval.evaluate(p.data());
-        visit(index, eval);
+        index[count] = static_cast<std::size_t>(i) + nx * (static_cast<std::size_t>(j) + ny * k);
+        point[count] = grid.point(index[count]);
+        if (++count == kBatchPoints) flush();
       }
+  if (count > 0) flush();
   const std::size_t total = done.fetch_add(block.size()) + block.size();
 #ifdef _OPENMP
   if (omp_get_thread_num() != 0) return;  // Progress is called from one thread
@@ -121,10 +147,12 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
 
 }  // namespace detail
 
-/// Same contract as for_each_grid_point (grid.hpp): visit(index, evaluator)
-/// once per grid point, concurrently for different indices; here the
-/// evaluator runs a tape specialized to a block around the point (and with
-/// far-field patches when `approximation` has a positive tolerance).
+/// Same contract as for_each_grid_point (grid.hpp): visit(index, results)
+/// once per grid point, concurrently for different indices, where
+/// results.result(root) is the point's value of a root (visit should take
+/// `const auto&`: an Evaluator or a BatchEvaluator's Point). Here the
+/// points run, in batches, a tape specialized to a block around them (and
+/// with far-field patches when `approximation` has a positive tolerance).
 template <class T, class Visit>
 void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit, const Progress& progress = {},
                                 const Approximation* approximation = nullptr) {

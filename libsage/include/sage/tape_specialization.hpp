@@ -40,6 +40,7 @@
 #include <sage/tape.hpp>
 #include <sage/tuple.hpp>
 
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -58,6 +59,13 @@ class TapeSpecializer {
   /// Borrows `tape`, which must outlive the specializer. Not thread-safe:
   /// one per thread.
   explicit TapeSpecializer(const Tape& tape);
+  ~TapeSpecializer();
+  TapeSpecializer(TapeSpecializer&&) noexcept;
+  TapeSpecializer& operator=(TapeSpecializer&&) noexcept;
+
+  /// Specializes `tape` from now on, keeping the buffers of the previous
+  /// one: grid sampling specializes thousands of tapes per thread.
+  void rebind(const Tape& tape);
 
   /// Evaluates the tape over `box` (dimension() intervals) and returns the
   /// tape specialized to it, or nothing when no instruction could be
@@ -90,7 +98,9 @@ class TapeSpecializer {
   void mark_analytic(const Interval* box, double enlargement);
   // Fits patches to the largest analytic subtrees; true if any was made.
   bool fit_patches(const Interval* box, const Approximation& settings);
-  Tape rebuild() const;
+  Tape rebuild();
+
+  struct Scratch;  // rebuild()'s work arrays, kept between calls
 
   const Tape* tape_;
   std::vector<Interval> registers_;
@@ -100,6 +110,7 @@ class TapeSpecializer {
   std::vector<char> register_analytic_;
   std::vector<Tuple<3, 1>> jets_;
   std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
+  std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace sage

@@ -1,0 +1,112 @@
+// Claims of batch_evaluator.hpp: a BatchEvaluator gives the same numbers,
+// bit for bit, as an Evaluator at every point of a batch,
+//  - for every op of the table (the sweep of tape_test), in doubles and in
+//    second-order tuples, with partial batches (count < width);
+//  - for tapes whose registers are reused (outputs written over arguments)
+//    and that have several roots;
+//  - for tapes with far-field patches (Op::Patch reads the point itself).
+
+#include "test_support.hpp"
+
+#include <sage/batch_evaluator.hpp>
+#include <sage/primitives.hpp>
+#include <sage/rfunction.hpp>
+#include <sage/tape_specialization.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace sage {
+namespace {
+
+using Points = std::vector<std::array<double, 3>>;
+
+Points random_points(std::size_t count, std::uint64_t seed, double lo, double hi) {
+  auto rng = test::make_rng(seed);
+  Points points;
+  for (std::size_t k = 0; k < count; ++k) points.push_back(test::random_point(rng, lo, hi));
+  return points;
+}
+
+// Same bits (NaN equals NaN: both evaluators must agree on it too).
+void expect_same(double batch, double single, const std::string& where) {
+  if (std::isnan(single)) {
+    EXPECT_TRUE(std::isnan(batch)) << where;
+    return;
+  }
+  EXPECT_EQ(batch, single) << where;
+}
+
+template <class T>
+void expect_batch_equals_evaluator(const Tape& tape, const Points& points, std::size_t width) {
+  BatchEvaluator<T> batch(tape, width);
+  Evaluator<T> single(tape);
+  for (std::size_t first = 0; first < points.size(); first += width) {
+    const std::size_t count = std::min(width, points.size() - first);
+    batch.evaluate(points.data() + first, count);
+    for (std::size_t l = 0; l < count; ++l) {
+      single.evaluate(points[first + l].data());
+      for (std::size_t root = 0; root < tape.results().size(); ++root) {
+        const std::string where = "point " + std::to_string(first + l) + " root " + std::to_string(root);
+        if constexpr (std::is_same_v<T, double>) {
+          expect_same(batch.result(l, root), single.result(root), where);
+          expect_same(batch.point(l).result(root), single.result(root), where);
+        } else {
+          for (int c = 0; c < T::size; ++c)
+            expect_same(batch.result(l, root).c[c], single.result(root).c[c],
+                        where + " coefficient " + std::to_string(c));
+        }
+      }
+    }
+  }
+}
+
+TEST(BatchEvaluator, EveryOpGivesTheEvaluatorsBits) {
+  const Points points = random_points(45, 31, -2, 2);  // a full batch of 16, then partial ones
+  for (const test::OpCase& c : test::op_cases(true)) {
+    SCOPED_TRACE(c.name);
+    const Tape tape(c.build(Expr::x(), Expr::y(), Expr::z()), 3);
+    expect_batch_equals_evaluator<double>(tape, points, 16);
+    expect_batch_equals_evaluator<Tuple<3, 2>>(tape, points, 16);
+  }
+}
+
+TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {
+  const Expr x = Expr::x(), y = Expr::y();
+  Expr f = x;
+  for (int i = 0; i < 200; ++i) f = sin(f) * 0.9 + y * 0.1 - square(f) * 0.01;
+  const Expr g = r_and(ball({0, 0, 0}, 1, 2), f, RSystem::r0());
+  const Tape tape(std::vector<Expr>{f, g, x * y}, 2);
+  // Constants keep their registers; the chain's values reuse a handful.
+  ASSERT_LT(tape.register_count(), tape.constants().size() + 20)
+      << "registers must be reused for this test to mean anything";
+  const Points points = random_points(100, 32, -1, 1);
+  expect_batch_equals_evaluator<double>(tape, points, 64);
+  expect_batch_equals_evaluator<Tuple<2, 3>>(tape, points, 7);
+}
+
+TEST(BatchEvaluator, TapesWithFarFieldPatches) {
+  std::vector<Expr> sides;
+  for (int i = 0; i < 128; ++i) {
+    const double a = 2 * std::numbers::pi * i / 128;
+    sides.push_back(halfspace({10 * std::cos(a), 10 * std::sin(a), 0}, {std::cos(a), std::sin(a), 0}, 2));
+  }
+  const Tape tape(r_conjunction_n(sides, RSystem::r0()), 2);
+  TapeSpecializer specializer(tape);
+  Approximation settings;
+  settings.tolerance = 1e-9;
+  const std::array<Interval, 3> box{Interval(9.5, 10.5), Interval(-0.5, 0.5), Interval(0.0)};
+  const std::optional<Tape> near = specializer.approximate(box.data(), settings);
+  ASSERT_TRUE(near);
+  std::size_t patches = 0;
+  for (const Instruction& ins : near->code()) patches += ins.op == Op::Patch;
+  ASSERT_GT(patches, 0u);
+  Points points = random_points(50, 33, -0.5, 0.5);
+  for (auto& p : points) p = {10 + p[0], p[1], 0};
+  expect_batch_equals_evaluator<Tuple<2, 1>>(*near, points, 32);
+}
+
+}  // namespace
+}  // namespace sage
