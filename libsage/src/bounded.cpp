@@ -152,19 +152,25 @@ SharpUnion sharp_union(const Expr& X, const Expr& Y, double tan1, double cot2, d
   const double alpha = b / (a + b - a * b), beta = a / (a + b - a * b);
   const Expr s = alpha * X + beta * Y;
   const Expr M = max(X, Y);
-  // Levels c <= C: rho = (1 - c / C) s. Squaring rho - P - Q = sqrt(2 P Q)
-  // gives A c^2 - 2 B c + D = 0 with A > 0; the arc is the root where the
-  // quadratic decreases, the smaller one, D / (B + sqrt(B^2 - A D)) (B > 0
-  // on the arc, so no cancellation).
+  // Levels c <= C: rho = (1 - c / C) s. With g(c) = rho - P - Q = g0 - g1 c,
+  // squaring g = sqrt(2 P Q) gives A c^2 - 2 B c + D = 0, A = g1^2 - k > 0
+  // (k = 2 / (a b)); the arc is the root where the quadratic decreases, the
+  // smaller one, D / (B + sqrt(B^2 - A D)) (B > 0 on the arc, so no
+  // cancellation). B^2 - A D = k g(X) g(Y) + (k / 2)^2 (X - Y)^2, a sum of
+  // two terms >= 0 on the arc: written so, its interval does not straddle 0
+  // by cancellation (as B^2 - A D did, for narrow zones).
+  const double k = 2 / (a * b);
   const Expr g0 = s + X / a + Y / b, g1 = s / C + (1 / a + 1 / b);
-  const Expr A = square(g1) - 2 / (a * b);
-  const Expr B = g0 * g1 - (X + Y) / (a * b);
-  const Expr D = square(g0) - (2 / (a * b)) * X * Y;
-  const Expr low_arc = div_safe(D, B + sqrt(clamp_nonneg(square(B) - A * D)));
+  const Expr B = g0 * g1 - (k / 2) * (X + Y);
+  const Expr D = square(g0) - k * X * Y;
+  // g at c = X and c = Y: one of P, Q is 0 there.
+  const Expr gx = (1.0 - X / C) * s - (X - Y) / b, gy = (1.0 - Y / C) * s - (Y - X) / a;
+  const Expr discriminant = k * gx * gy + (k * k / 4) * square(X - Y);
+  const Expr low_arc = div_safe(D, B + sqrt(clamp_nonneg(discriminant)));
   // Straight where the arc of level X (or Y) has not begun yet: Y below the
-  // tangent point, X - Y >= b (1 - X / C) s (resp. Y - X >= a (1 - Y / C) s).
-  const Expr vertical = step(X - Y - b * (1.0 - X / C) * s);
-  const Expr horizontal = step(Y - X - a * (1.0 - Y / C) * s);
+  // tangent point, g(X) <= 0, i.e. X - Y >= b (1 - X / C) s (resp. g(Y) <= 0).
+  const Expr vertical = step(-gx);
+  const Expr horizontal = step(-gy);
   const Expr low = vertical * X + horizontal * Y + (1.0 - vertical - horizontal) * low_arc;
   // Levels c >= C: rho = c - C, the smooth union homothetic about (C, C).
   const Expr high = C + smooth_union(X - C, Y - C, tan1, cot2);

@@ -12,6 +12,7 @@
 #include "test_support.hpp"
 
 #include <sage/bounded.hpp>
+#include <sage/derivative.hpp>
 
 #include <gtest/gtest.h>
 
@@ -46,7 +47,7 @@ double tangent_height(double c, const BoundedTransition& t) {
 }
 
 TEST(BoundedSharp, ReproducesEachPotentialWhereTheOtherIsZero) {
-  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3)}) {
+  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3), sharp(2, 88, 0.08), sharp(42, 48, 0.92)}) {
     const Tape uni(plane_operator(BoundedOp::Union, t), 2);
     const Tape inter(plane_operator(BoundedOp::Intersection, t), 2);
     Evaluator<double> gu(uni), gi(inter);
@@ -78,7 +79,8 @@ TEST(BoundedSharp, OutsideTheZoneTheLevelCurvesAreTheStraightLines) {
 }
 
 TEST(BoundedSharp, LevelCIsTheCornerAndOtherLevelsAreRounded) {
-  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3), sharp(35, 55, 0.7)}) {
+  for (const BoundedTransition& t :
+       {sharp(20, 65), sharp(10, 80, 0.3), sharp(35, 55, 0.7), sharp(2, 88, 0.08), sharp(42, 48, 0.92)}) {
     const double C = t.iso, k1 = std::tan(t.theta1), k2 = std::tan(t.theta2);
     const Tape uni(plane_operator(BoundedOp::Union, t), 2);
     const Tape inter(plane_operator(BoundedOp::Intersection, t), 2);
@@ -97,20 +99,24 @@ TEST(BoundedSharp, LevelCIsTheCornerAndOtherLevelsAreRounded) {
               << " ] largest |G - C| on the corner: " << worst << "\n";
     EXPECT_LT(worst, 1e-12);
     // Other levels are rounded: on the diagonal the union exceeds max(X, Y)
-    // and the intersection stays below min(X, Y), by an amount that shrinks
-    // to 0 as the level approaches C (the corner) and grows away from it.
-    for (double f : {0.5, 1.5}) {
-      EXPECT_GT(gu.at({f * C, f * C, 0}) - f * C, 0.02 * C) << f;
-      EXPECT_GT(f * C - gi.at({f * C, f * C, 0}), 0.02 * C) << f;
-    }
-    const double near_union = gu.at({0.999 * C, 0.999 * C, 0}) - 0.999 * C;
-    EXPECT_GT(near_union, 0);
-    EXPECT_LT(near_union, 0.01 * C);
-    // The smooth operator rounds level C too (test sanity).
+    // and the intersection stays below min(X, Y), by at least a tenth of the
+    // smooth operator's rounding at the same point, and by an amount that
+    // shrinks to 0 as the level approaches C (the corner).
     BoundedTransition smooth = t;
     smooth.sharp = false;
     const Tape su(plane_operator(BoundedOp::Union, smooth), 2);
-    EXPECT_GT(Evaluator<double>(su).at({C, C, 0}) - C, 0.02 * C);
+    const Tape si(plane_operator(BoundedOp::Intersection, smooth), 2);
+    Evaluator<double> gsu(su), gsi(si);
+    for (double f : {0.5, 1.5}) {
+      const double v = f * C;
+      EXPECT_GT(gu.at({v, v, 0}) - v, 0.1 * (gsu.at({v, v, 0}) - v)) << f;
+      EXPECT_GT(v - gi.at({v, v, 0}), 0.1 * (v - gsi.at({v, v, 0}))) << f;
+    }
+    const double near_union = gu.at({0.999 * C, 0.999 * C, 0}) - 0.999 * C;
+    EXPECT_GT(near_union, 0);
+    EXPECT_LT(near_union, 0.01 * (gsu.at({C, C, 0}) - C));
+    // The smooth operator rounds level C too (test sanity).
+    EXPECT_GT(gsu.at({C, C, 0}) - C, 0.01 * C);
   }
 }
 
@@ -129,7 +135,7 @@ TEST(BoundedSharp, GradientIsContinuousAcrossZoneBordersAndTangentPoints) {
     const Tape tape(plane_operator(op, t), 2);
     Evaluator<Tuple<2, 1>> eval(tape);
     Evaluator<double> g(tape);
-    double rays = 0, tangents = 0;
+    double rays = 0, tangents = 0, at_1e7 = 0, at_1e9 = 0;
     // Across the rays theta1 and theta2 (levels r cos theta1 etc., never C on this grid).
     for (double theta : {t.theta1, t.theta2})
       for (double r = 0.05; r < 1.2; r += 0.05)
@@ -148,11 +154,16 @@ TEST(BoundedSharp, GradientIsContinuousAcrossZoneBordersAndTangentPoints) {
       const double above = g.at({c, yt + 1e-3, 0});
       EXPECT_GT(op == BoundedOp::Union ? above - c : (yt + 1e-3) - above, 1e-9) << name << " c " << c;
       tangents = std::max(tangents, gradient_jump(eval, p, 0, 1, 1e-11));
+      at_1e7 = std::max(at_1e7, gradient_jump(eval, p, 0, 1, 1e-7));
+      at_1e9 = std::max(at_1e9, gradient_jump(eval, p, 0, 1, 1e-9));
     }
     std::cout << "[ sharp bounded " << name << " ] gradient jump across theta1/theta2: " << rays
-              << ", across the tangent points: " << tangents << "\n";
+              << ", across the tangent points: " << tangents << " (at +-1e-9: " << at_1e9 << ", +-1e-7: " << at_1e7
+              << ")\n";
     EXPECT_LT(rays, 1e-8);
-    EXPECT_LT(tangents, 1e-8);  // 7e-6 at h = 1e-7: linear in h, no jump
+    EXPECT_LT(tangents, 1e-8);
+    // Linear in the offset: a jump J would give about J at every offset.
+    EXPECT_LT(at_1e9, 0.05 * at_1e7);
   }
   // Test sanity: the same measure sees the corner of the level C.
   const Tape tape(plane_operator(BoundedOp::Union, t), 2);
@@ -161,7 +172,7 @@ TEST(BoundedSharp, GradientIsContinuousAcrossZoneBordersAndTangentPoints) {
 }
 
 TEST(BoundedSharp, TupleDerivativesMatchFiniteDifferencesAndLieInTheUnitRange) {
-  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3)}) {
+  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3), sharp(2, 88, 0.08), sharp(42, 48, 0.92)}) {
     for (BoundedOp op : {BoundedOp::Union, BoundedOp::Intersection}) {
       const Tape tape(plane_operator(op, t), 2);
       Evaluator<double> g(tape);
@@ -189,9 +200,60 @@ TEST(BoundedSharp, TupleDerivativesMatchFiniteDifferencesAndLieInTheUnitRange) {
   }
 }
 
+/// Mirror of tangent_height: where the arc of level c leaves Y = c.
+double tangent_abscissa(double c, const BoundedTransition& t) {
+  const double a = 1 - 1 / std::tan(t.theta2), b = 1 - std::tan(t.theta1), C = t.iso;
+  if (c >= C) return C + (c - C) / std::tan(t.theta2);
+  const double alpha = b / (a + b - a * b), beta = a / (a + b - a * b), tau = 1 - c / C;
+  return c * (1 - a * beta * tau) / (1 + a * alpha * tau);
+}
+
+TEST(BoundedSharp, SecondOrderTuplesAndSymbolicDerivativesAgree) {
+  // Away from the tangent points (where the curvature of the level curves,
+  // hence the second derivatives, jump: the field is G1, not C2) and from
+  // the corner: Hessians of Tuple<2, 2> against central differences of
+  // the tuple gradients, and the symbolic derivatives against the tuples.
+  const BoundedTransition t = sharp(20, 65);
+  for (BoundedOp op : {BoundedOp::Union, BoundedOp::Intersection}) {
+    const Expr g = plane_operator(op, t);
+    const Tape tape(g, 2);
+    const Tape symbolic(gradient(g, 2), 2);
+    Evaluator<Tuple<2, 2>> second(tape);
+    Evaluator<Tuple<2, 1>> first(tape);
+    Evaluator<double> grad(symbolic);
+    auto rng = test::make_rng(13);
+    double worst_hessian = 0, worst_symbolic = 0;
+    int tested = 0;
+    while (tested < 500) {
+      const Point p = test::random_point(rng, 0.02, 1.2, 2);
+      if (std::hypot(p[0] - t.iso, p[1] - t.iso) < 0.05) continue;
+      if (std::abs(p[1] - tangent_height(p[0], t)) < 2e-3 || std::abs(p[0] - tangent_abscissa(p[1], t)) < 2e-3)
+        continue;
+      ++tested;
+      const Tuple<2, 2> h = second.at(p);
+      grad.evaluate(p.data());
+      for (int i = 0; i < 2; ++i) {
+        worst_symbolic = std::max(worst_symbolic, std::abs(grad.result(i) - h.gradient()[i]));
+        for (int j = 0; j < 2; ++j) {
+          MultiIndex<2> alpha{0, 0};
+          ++alpha[i], ++alpha[j];
+          const double fd =
+              test::central_difference([&](const Point& q) { return first.at(q).gradient()[i]; }, p, j, 1e-6);
+          worst_hessian = std::max(worst_hessian, std::abs(h.derivative(alpha) - fd) / std::max(1.0, std::abs(fd)));
+        }
+      }
+    }
+    std::cout << "[ sharp bounded " << (op == BoundedOp::Union ? "union" : "intersection")
+              << " ] Hessian against differences of gradients (relative): " << worst_hessian
+              << ", symbolic against tuple gradient: " << worst_symbolic << "\n";
+    EXPECT_LT(worst_hessian, 1e-5);
+    EXPECT_LT(worst_symbolic, 1e-12);
+  }
+}
+
 TEST(BoundedSharp, StaysBetweenItsArgumentsAndIntervalsEncloseIt) {
   auto rng = test::make_rng(5);
-  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3)})
+  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3), sharp(2, 88, 0.08), sharp(42, 48, 0.92)})
     for (BoundedOp op : {BoundedOp::Union, BoundedOp::Intersection, BoundedOp::Difference}) {
       const Tape tape(plane_operator(op, t), 2);
       Evaluator<double> g(tape);
@@ -220,39 +282,45 @@ TEST(BoundedSharp, StaysBetweenItsArgumentsAndIntervalsEncloseIt) {
 
 TEST(BoundedSharp, IntervalsShrinkWithTheBoxWhereTheStepsSwitch) {
   // Boxes centred on the tangent points, the rays, the line max(X, Y) = C
-  // and the corner: the enclosure width / box width stays about the same
-  // from w = 1e-3 to 1e-6 (a floor would multiply it by 1000).
-  const BoundedTransition t = sharp(15, 70);
-  const double C = t.iso;
-  std::vector<Point> centres{{C, C, 0}, {C, 0.3 * C, 0}, {0.3 * C, C, 0}};
-  for (double c : {0.1, 0.3, 0.45, 0.7, 1.0}) centres.push_back({c, tangent_height(c, t), 0});
-  for (double theta : {t.theta1, t.theta2})
-    for (double r : {0.2, 0.9}) centres.push_back({r * std::cos(theta), r * std::sin(theta), 0});
-  double worst = 0;
-  for (BoundedOp op : {BoundedOp::Union, BoundedOp::Intersection}) {
-    const Tape tape(plane_operator(op, t), 2);
-    Evaluator<Interval> boxes(tape);
-    for (const Point& p : centres) {
-      double ratio[2];
-      for (int i = 0; i < 2; ++i) {
-        const double w = i == 0 ? 1e-3 : 1e-6;
-        Interval box[2] = {{p[0] - w / 2, p[0] + w / 2}, {p[1] - w / 2, p[1] + w / 2}};
-        boxes.evaluate_with(box);
-        ratio[i] = boxes.result().width() / w;
+  // and the corner (where the steps switch), and on the diagonal inside
+  // the zone: the enclosure width / box width stays about the same from
+  // w = 1e-3 C to 1e-6 C (a floor would multiply it by 1000).
+  double worst_switch = 0, worst_inside = 0;
+  for (const BoundedTransition& t : {sharp(15, 70), sharp(2, 88, 0.08), sharp(42, 48, 0.92)}) {
+    const double C = t.iso;
+    std::vector<Point> centres{{0.5 * C, 0.5 * C, 0}, {1.5 * C, 1.5 * C, 0}};  // inside: the first two
+    centres.insert(centres.end(), {{C, C, 0}, {C, 0.3 * C, 0}, {0.3 * C, C, 0}});
+    for (double f : {0.2, 0.6, 0.9, 1.4, 2.0}) centres.push_back({f * C, tangent_height(f * C, t), 0});
+    for (double theta : {t.theta1, t.theta2})
+      for (double r : {0.4 * C, 1.8 * C}) centres.push_back({r * std::cos(theta), r * std::sin(theta), 0});
+    for (BoundedOp op : {BoundedOp::Union, BoundedOp::Intersection}) {
+      const Tape tape(plane_operator(op, t), 2);
+      Evaluator<Interval> boxes(tape);
+      for (std::size_t c = 0; c < centres.size(); ++c) {
+        const Point& p = centres[c];
+        double ratio[2];
+        for (int i = 0; i < 2; ++i) {
+          const double w = i == 0 ? 1e-3 * C : 1e-6 * C;
+          Interval box[2] = {{p[0] - w / 2, p[0] + w / 2}, {p[1] - w / 2, p[1] + w / 2}};
+          boxes.evaluate_with(box);
+          ratio[i] = boxes.result().width() / w;
+        }
+        EXPECT_LT(ratio[1], 4 * ratio[0] + 2) << "at " << p[0] << ", " << p[1] << ", C " << C;
+        double& worst = c < 2 ? worst_inside : worst_switch;
+        worst = std::max({worst, ratio[0], ratio[1]});
       }
-      EXPECT_LT(ratio[1], 4 * ratio[0] + 2) << "at " << p[0] << ", " << p[1];
-      worst = std::max({worst, ratio[0], ratio[1]});
+      Interval tiny[2] = {{-1e-300, 1e-300}, {-1e-300, 1e-300}};
+      boxes.evaluate_with(tiny);
+      EXPECT_LT(boxes.result().width(), 1e-290);
     }
-    Interval tiny[2] = {{-1e-300, 1e-300}, {-1e-300, 1e-300}};
-    boxes.evaluate_with(tiny);
-    EXPECT_LT(boxes.result().width(), 1e-290);
   }
-  std::cout << "[ sharp bounded ] largest enclosure width / box width where the steps switch: " << worst << "\n";
-  EXPECT_LT(worst, 8.0);
+  std::cout << "[ sharp bounded ] largest enclosure width / box width where the steps switch: " << worst_switch
+            << ", inside the zone: " << worst_inside << "\n";
+  EXPECT_LT(worst_switch, 8.0);
 }
 
 TEST(BoundedSharp, DifferenceIsIntersectionWithTheReflectedSecondPotential) {
-  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3)}) {
+  for (const BoundedTransition& t : {sharp(20, 65), sharp(10, 80, 0.3), sharp(2, 88, 0.08), sharp(42, 48, 0.92)}) {
     const Expr diff = plane_operator(BoundedOp::Difference, t);
     const Expr inter = bounded_compose(BoundedOp::Intersection, Expr::x(), 2 * t.iso - Expr::y(), t, 2);
     const Tape tape(std::vector<Expr>{diff, inter}, 2);
