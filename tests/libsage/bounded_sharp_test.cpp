@@ -258,6 +258,12 @@ TEST(BoundedSharp, StaysBetweenItsArgumentsAndIntervalsEncloseIt) {
       const Tape tape(plane_operator(op, t), 2);
       Evaluator<double> g(tape);
       Evaluator<Interval> boxes(tape);
+      Evaluator<Tuple<2, 1>> tuples(tape);
+      for (int i = 0; i < 500; ++i) {  // finite everywhere, negative and large inputs included
+        const Point p = test::random_point(rng, -1, 3, 2);
+        const auto grad = tuples.at(p).gradient();
+        ASSERT_TRUE(std::isfinite(g.at(p)) && std::isfinite(grad[0]) && std::isfinite(grad[1])) << p[0] << ", " << p[1];
+      }
       for (int i = 0; i < 2000; ++i) {
         const Point p = test::random_point(rng, 0, 1.2, 2);
         if (op == BoundedOp::Union) {
