@@ -308,7 +308,7 @@ class Reader {
         allow_keys(j, at, {"op", "args", "iso", "name"});
         return iso_field(arguments(j, at, 1, 1)[0], j.contains("iso") ? number_at(j, "iso", at) : 0.5);
       }
-      allow_keys(j, at, {"op", "args", "theta1_degrees", "theta2_degrees", "iso", "profile_points", "name"});
+      allow_keys(j, at, {"op", "args", "theta1_degrees", "theta2_degrees", "iso", "profile_points", "sharp", "name"});
       BoundedOp kind = BoundedOp::Union;
       if (op == "bounded_intersection")
         kind = BoundedOp::Intersection;
@@ -320,6 +320,10 @@ class Reader {
       if (j.contains("theta1_degrees")) tr.theta1 = number_at(j, "theta1_degrees", at) * M_PI / 180;
       if (j.contains("theta2_degrees")) tr.theta2 = number_at(j, "theta2_degrees", at) * M_PI / 180;
       if (j.contains("iso")) tr.iso = number_at(j, "iso", at);
+      if (j.contains("sharp")) {
+        if (!j["sharp"].is_boolean()) fail(at + "/sharp", "expected true or false");
+        tr.sharp = j["sharp"].get<bool>();
+      }
       if (j.contains("profile_points")) {
         const Json& pts = j["profile_points"];
         if (!pts.is_array()) fail(at + "/profile_points", "expected an array of points");

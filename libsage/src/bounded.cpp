@@ -132,6 +132,76 @@ std::pair<Expr, Expr> linear_bounds(const Expr& X, const Expr& Y, double tan1, d
   return is_union ? std::make_pair(tangents, chords) : std::make_pair(chords, tangents);
 }
 
+/// The smooth union's arc-of-ellipse field (zones by angle, no clamp).
+Expr smooth_union(const Expr& X, const Expr& Y, double tan1, double cot2) {
+  const Expr below = step(tan1 * X - Y), above = step(cot2 * Y - X);
+  return below * X + above * Y + (1.0 - below - above) * arc_level(X, Y, cot2, tan1, true);
+}
+
+/// The sharp union and its upper bound (bounded.hpp). Corner coordinates
+/// P = (c - X) / a, Q = (c - Y) / b with a = 1 - cot theta2, b = 1 - tan
+/// theta1; the arc of level c is N(P, Q) = P + Q + sqrt(2 P Q) = rho.
+struct SharpUnion {
+  Expr value;  // clamped between max(X, Y) and `upper`
+  Expr upper;
+};
+
+SharpUnion sharp_union(const Expr& X, const Expr& Y, double tan1, double cot2, double C) {
+  const double a = 1 - cot2, b = 1 - tan1;
+  // Chord gauge: s = 1 at (1, tan theta1) and (cot theta2, 1).
+  const double alpha = b / (a + b - a * b), beta = a / (a + b - a * b);
+  const Expr s = alpha * X + beta * Y;
+  const Expr M = max(X, Y);
+  // Levels c <= C: rho = (1 - c / C) s. With g(c) = rho - P - Q = g0 - g1 c,
+  // squaring g = sqrt(2 P Q) gives A c^2 - 2 B c + D = 0, A = g1^2 - k > 0
+  // (k = 2 / (a b)); the arc is the root where the quadratic decreases, the
+  // smaller one, D / (B + sqrt(B^2 - A D)) (B > 0 on the arc, so no
+  // cancellation). B^2 - A D = k g(X) g(Y) + (k / 2)^2 (X - Y)^2, a sum of
+  // two terms >= 0 on the arc: written so, its interval does not straddle 0
+  // by cancellation (as B^2 - A D did, for narrow zones).
+  const double k = 2 / (a * b);
+  const Expr g0 = s + X / a + Y / b, g1 = s / C + (1 / a + 1 / b);
+  const Expr B = g0 * g1 - (k / 2) * (X + Y);
+  const Expr D = square(g0) - k * X * Y;
+  // g at c = X and c = Y: one of P, Q is 0 there.
+  const Expr gx = (1.0 - X / C) * s - (X - Y) / b, gy = (1.0 - Y / C) * s - (Y - X) / a;
+  const Expr discriminant = k * gx * gy + (k * k / 4) * square(X - Y);
+  const Expr low_arc = div_safe(D, B + sqrt(clamp_nonneg(discriminant)));
+  // Straight where the arc of level X (or Y) has not begun yet: Y below the
+  // tangent point, g(X) <= 0, i.e. X - Y >= b (1 - X / C) s (resp. g(Y) <= 0).
+  const Expr vertical = step(-gx);
+  const Expr horizontal = step(-gy);
+  const Expr low = vertical * X + horizontal * Y + (1.0 - vertical - horizontal) * low_arc;
+  // Levels c >= C: rho = c - C, the smooth union homothetic about (C, C).
+  const Expr high = C + smooth_union(X - C, Y - C, tan1, cot2);
+  const Expr above_corner = step(M - C);
+  const Expr g = above_corner * high + (1.0 - above_corner) * low;
+
+  // Upper bound: 0 <= dG/dX, dG/dY <= 1 and G = X up to the tangent point
+  // (X, Yt(X)), so G <= X + max(Y - Yt(X), 0); likewise in Y. Exact on the
+  // straight parts, where the zone steps switch.
+  const Expr Xc = min(X, Expr(C)), Yc = min(Y, Expr(C));
+  const Expr tx = 1.0 - Xc / C, ty = 1.0 - Yc / C;
+  const Expr Yt = Xc * (1.0 - (b * alpha) * tx) / (1.0 + (b * beta) * tx) + tan1 * max(X - C, Expr(0.0));
+  const Expr Xt = Yc * (1.0 - (a * beta) * ty) / (1.0 + (a * alpha) * ty) + cot2 * max(Y - C, Expr(0.0));
+  const Expr bound = min(X + max(Y - Yt, Expr(0.0)), Y + max(X - Xt, Expr(0.0)));
+  // Where an input is <= 0, G = max(X, Y) and the bound above may not hold.
+  const Expr upper = max(M, bound * (1 + 1e-12));
+  return {min(max(g, M), upper), upper};
+}
+
+/// The sharp intersection X Y / U(X, Y) with U the sharp union (as min =
+/// X Y / max), on the positive parts; min(X, Y, 0) carries negative inputs.
+Expr sharp_intersection(const Expr& X, const Expr& Y, double tan1, double cot2, double C) {
+  const Expr Xp = max(X, Expr(0.0)), Yp = max(Y, Expr(0.0));
+  const SharpUnion u = sharp_union(Xp, Yp, tan1, cot2, C);
+  const Expr product = Xp * Yp;
+  // U <= upper gives the lower bound; U >= max gives min(X, Y) above.
+  const Expr lower = max(Expr(0.0), div_safe(product, u.upper) * (1 - 1e-12));
+  const Expr j = min(max(div_safe(product, u.value), lower), min(Xp, Yp));
+  return min(min(X, Y), Expr(0.0)) + j;
+}
+
 }  // namespace
 
 Expr bounded_compose(BoundedOp op, const Expr& f1, const Expr& f2, const BoundedTransition& tr, int dimension) {
@@ -144,6 +214,12 @@ Expr bounded_compose(BoundedOp op, const Expr& f1, const Expr& f2, const Bounded
   const Expr Y = op == BoundedOp::Difference ? 2 * tr.iso - f2 : f2;
   const double tan1 = std::tan(tr.theta1), cot2 = 1 / std::tan(tr.theta2);
   const bool is_union = op == BoundedOp::Union;
+  if (tr.sharp) {
+    if (!tr.profile_points.empty())
+      throw std::invalid_argument(
+          "profile points cannot shape the sharp transition: its level-C curve is the corner of f1 = C and f2 = C");
+    return is_union ? sharp_union(X, Y, tan1, cot2, tr.iso).value : sharp_intersection(X, Y, tan1, cot2, tr.iso);
+  }
 
   // Zones by angle; step(0) = 1/2 on a border, where both sides agree to first order.
   const Expr below = step(tan1 * X - Y);  // theta <= theta1

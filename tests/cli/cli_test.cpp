@@ -14,6 +14,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -69,6 +70,37 @@ TEST(Cli, FieldRoundTripThroughVtk) {
   }
 }
 
+TEST(Cli, SharpBoundedUnionHasItsLevelCOnTheCorner) {
+  // G(X, Y) of the sharp bounded union with X = x, Y = y (issue 5): the
+  // field G - C is 0 on the corner max(x, y) = C inside the transition zone
+  // and x - C on the x axis.
+  const std::string m = write_file("bounded_sharp.json", R"({"dimension": 2, "field": {"op": "iso_surface", "args": [
+      {"op": "bounded_union", "sharp": true, "theta1_degrees": 20, "theta2_degrees": 70,
+       "args": [{"formula": "x"}, {"formula": "y"}]}]}})");
+  const fs::path out = scratch("bounded_sharp.vtu");
+  const Result r = run("field " + m + " -o " + out.string() + " --grid 11x11 --bounds 0,1,0,1 -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  vtkDataArray* omega = g->GetPointData()->GetArray("omega");
+  ASSERT_TRUE(omega);
+  int on_corner = 0;
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i) {
+    double p[3];
+    g->GetPoint(i, p);
+    const double theta = std::atan2(p[1], p[0]);
+    const bool in_zone = theta >= 20 * M_PI / 180 && theta <= 70 * M_PI / 180;
+    if (in_zone && std::abs(std::max(p[0], p[1]) - 0.5) < 1e-9) {
+      EXPECT_NEAR(omega->GetTuple1(i), 0.0, 1e-12) << p[0] << ", " << p[1];
+      ++on_corner;
+    }
+    if (p[1] == 0) EXPECT_NEAR(omega->GetTuple1(i), p[0] - 0.5, 1e-12);
+  }
+  EXPECT_EQ(on_corner, 7);  // (0.5, 0.2) ... (0.5, 0.5) ... (0.2, 0.5); (0.5, 0.1) is below 20 degrees
+}
+
 TEST(Cli, FieldWritesImageDataFor3D) {
   const fs::path out = scratch("torus.vti");
   const Result r = run("field " + model("primitives_3d.json") + " -o " + out.string() + " --grid 8x8x8 -q");
@@ -107,6 +139,13 @@ void expect_failure(const std::string& args, std::initializer_list<std::string> 
 TEST(CliErrors, MalformedModel) {
   const std::string m = write_file("broken.json", "{\"dimension\": 2,\n \"field\": {\"formula\": }\n}");
   expect_failure("field " + m + " -o " + scratch("x.vtu").string(), {"broken.json", "line 2", "malformed JSON"});
+}
+
+TEST(CliErrors, BadSharpFlag) {
+  const std::string m = write_file("bounded_bad.json", R"({"dimension": 2, "field": {"op": "bounded_union",
+      "sharp": "yes", "args": [{"formula": "x"}, {"formula": "y"}]}})");
+  expect_failure("field " + m + " -o " + scratch("x.vtu").string() + " --bounds 0,1,0,1",
+                 {"bounded_bad.json", "/field/sharp", "true or false"});
 }
 
 TEST(CliErrors, UnknownPrimitive) {

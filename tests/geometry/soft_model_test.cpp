@@ -68,6 +68,27 @@ TEST(SoftModel, BoundedOperatorsAreThePaperOperators) {
   EXPECT_EQ(largest_difference(m.field, expected), 0.0);
 }
 
+TEST(SoftModel, SharpBoundedOperatorsAreThePaperOperators) {
+  const char* ops[] = {"bounded_union", "bounded_intersection", "bounded_difference"};
+  const sage::BoundedOp kinds[] = {sage::BoundedOp::Union, sage::BoundedOp::Intersection, sage::BoundedOp::Difference};
+  for (int k = 0; k < 3; ++k) {
+    const Model m = parse_model(std::string(R"json({"dimension": 3, "field": {"op": "iso_surface", "iso": 0.4, "args": [
+      {"op": ")json") + ops[k] + R"json(", "sharp": true, "iso": 0.4, "theta1_degrees": 15, "args": [
+        {"op": "bounded", "width": 0.5, "args": [{"formula": "0.8 - sqrt((x + 0.5)^2 + y^2 + z^2)"}], "name": "a"},
+        {"op": "bounded", "width": 0.5, "args": [{"formula": "0.7 - sqrt((x - 0.5)^2 + y^2 + z^2)"}], "name": "b"}
+      ]}]}})json",
+                                "t");
+    sage::BoundedTransition t;
+    t.theta1 = 15 * M_PI / 180, t.iso = 0.4, t.sharp = true;
+    const Expr expected = sage::bounded_compose(kinds[k], m.named.at("a"), m.named.at("b"), t, 3) - 0.4;
+    EXPECT_EQ(largest_difference(m.field, expected), 0.0) << ops[k];
+    // Test sanity: the smooth operator is another field.
+    t.sharp = false;
+    const Expr smooth = sage::bounded_compose(kinds[k], m.named.at("a"), m.named.at("b"), t, 3) - 0.4;
+    EXPECT_GT(largest_difference(m.field, smooth), 1e-3) << ops[k];
+  }
+}
+
 void expect_error(const std::string& field, std::initializer_list<std::string> pieces) {
   try {
     parse_model(R"({"dimension": 3, "field": )" + field + "}", "bad.json");
@@ -99,7 +120,10 @@ TEST(SoftModelErrors, BadBoundedOperatorsNameTheirPlace) {
   expect_error(R"({"op": "bounded_union", "profile_points": [[5, 5, 5]])" + args, {"/field", "profile point 1"});
   expect_error(R"({"op": "bounded", "args": [{"formula": "x"}]})", {"/field", "\"width\""});
   expect_error(R"({"op": "bounded_blob")" + args, {"/field/op", "bounded_blob"});
-  expect_error(R"({"op": "bounded_union", "sharp": true)" + args, {"/field/sharp", "unknown key"});
+  expect_error(R"({"op": "bounded_union", "sharpness": 1)" + args, {"/field/sharpness", "unknown key"});
+  expect_error(R"({"op": "bounded_union", "sharp": 1)" + args, {"/field/sharp", "true or false"});
+  expect_error(R"({"op": "bounded_union", "sharp": true, "profile_points": [[0, 0, 0]])" + args,
+               {"/field", "sharp transition"});
 }
 
 }  // namespace

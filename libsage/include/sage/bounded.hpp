@@ -41,6 +41,29 @@
 // to it); over a box the enclosure is at most the bounds' range, which
 // shrinks with the box. The profile is written without steps, in the
 // truncated power basis, for the same reason.
+//
+// Sharp transition (BoundedTransition::sharp; the paper's appendix is
+// unreadable, this is our own family): the level-C curve is the corner
+// max(X, Y) = C (union) or min(X, Y) = C (intersection) and the field is
+// G1 everywhere else. Union: in corner coordinates P = (c - X) / a,
+// Q = (c - Y) / b, a = 1 - cot theta2, b = 1 - tan theta1, the smooth arc of
+// level c is N(P, Q) = P + Q + sqrt(2 P Q) = rho with rho = c. The sharp
+// arcs take rho = (1 - c / C) s(X, Y) for c <= C, with s = alpha X + beta Y
+// the chord gauge (s = 1 at (1, tan theta1) and (cot theta2, 1)), and
+// rho = c - C for c >= C (the smooth union homothetic about (C, C)). rho
+// is linear in c in both, so c is again the root of a quadratic; rho -> 0
+// at c = C shrinks the arc to the corner. The arc meets X = c at a tangent
+// point inside the zone (angle >= theta1; -> theta1 as c -> 0), below it
+// G = X; along N = rho, dPsi/dc > 0 for Psi = N - rho, so the arcs do not
+// cross and the root is unique, and at the tangent points the gradient
+// tends to (1, 0) (N_P -> infinity), so G is G1 except at (C, C).
+// 0 <= dG/dX, dG/dY <= 1, which gives the interval bound
+// max(X, Y) <= G <= min(X + (Y - Yt(X))+, Y + (X - Xt(Y))+), exact where
+// the zone steps switch (Yt: the tangent point of level X). Intersection:
+// X Y / U(X, Y) with U the sharp union (min = X Y / max): G = Y where U = X,
+// X where U = Y, level C on min(X, Y) = C, G1 where U is, monotone with
+// slopes in [0, 1]. The profile does not apply (refused): it would move the
+// level-C curve off the corner.
 
 #include <sage/expression.hpp>
 #include <sage/primitives.hpp>
@@ -62,6 +85,9 @@ struct BoundedTransition {
   /// Profile control points in model space; each must map to an angle
   /// strictly between theta1 and theta2.
   std::vector<Vec3> profile_points;
+  /// Sharp transition: the level-C curve is the corner of f1 = C and
+  /// f2 = C (see above); no profile points then.
+  bool sharp = false;
 };
 
 enum class BoundedOp { Union, Intersection, Difference };
