@@ -1,0 +1,27 @@
+#pragma once
+// The system matrix E^T A E of the unknowns (web_basis.hpp), from the
+// Galerkin matrix A of the relevant B-splines held as a band: row r of A
+// (relevant spline i = grid index of basis.relevant[r]) has (2n + 1)^D
+// slots, slot o = sum_a (o_a) (2n + 1)^a (axis 0 fastest) for the column
+// spline i + o - n, o_a in 0..2n; slots of splines that are not relevant
+// hold 0.
+//
+// Computed in two row passes with a dense accumulator, T = A E and then
+// E^T T column by column (the system is symmetric): the same sums as a
+// general sparse product, without building A as a sparse matrix or
+// changing storage orders, which took most of the time on the 3D grids.
+
+#include <sage/solver/web_basis.hpp>
+
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+namespace sage::solver {
+
+/// E^T A E (unknowns x unknowns, column-major, columns sorted); `band`
+/// holds relevant x (2n + 1)^D values as described above.
+template <int D>
+Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band);
+
+}  // namespace sage::solver
