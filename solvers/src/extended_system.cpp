@@ -53,22 +53,37 @@ Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const s
   const Eigen::Index unknowns = E.cols();
   const Eigen::SparseMatrix<double, Eigen::RowMajor> rows_of_e = E;
 
-  // Slot o of a band row: the column spline's global number minus the row's.
-  std::vector<long long> shift(static_cast<std::size_t>(stencil));
-  for (int o = 0; o < stencil; ++o) {
-    long long s = 0, stride = 1;
-    int rest = o;
-    for (int a = 0; a < D; ++a) {
-      s += (rest % width - n) * stride;
-      rest /= width;
-      stride *= grid.splines_along(a);
+  // A by rows, without the empty slots: (relevant column, value).
+  std::vector<std::size_t> a_start(relevant + 1, 0);
+  std::vector<Entry> a_entries;
+  {
+    std::vector<long long> shift(static_cast<std::size_t>(stencil));  // slot -> global spline offset
+    for (int o = 0; o < stencil; ++o) {
+      long long s = 0, stride = 1;
+      int rest = o;
+      for (int a = 0; a < D; ++a) {
+        s += (rest % width - n) * stride;
+        rest /= width;
+        stride *= grid.splines_along(a);
+      }
+      shift[static_cast<std::size_t>(o)] = s;
     }
-    shift[static_cast<std::size_t>(o)] = s;
+    for (std::size_t r = 0; r < relevant; ++r) {
+      const double* row = band.data() + r * static_cast<std::size_t>(stencil);
+      const auto spline = static_cast<long long>(basis.relevant[r]);
+      for (int o = 0; o < stencil; ++o) {
+        if (row[o] == 0.0) continue;
+        const long long j = basis.relevant_of[static_cast<std::size_t>(spline + shift[static_cast<std::size_t>(o)])];
+        a_entries.push_back({static_cast<int>(j), row[o]});
+      }
+      a_start[r + 1] = a_entries.size();
+    }
   }
 
-  // Column p of E^T A E is E^T (A e) with e = E(:, p): A e from the band
-  // rows of e's splines (A is symmetric), then E^T of that.
-  std::vector<std::vector<Entry>> columns(static_cast<std::size_t>(unknowns));
+  // Column p of E^T A E is E^T (A e) with e = E(:, p): A e from the rows
+  // of A at e's splines (A is symmetric), then E^T of that; only rows
+  // i >= p (the lower triangle), mirrored below.
+  std::vector<std::vector<Entry>> lower(static_cast<std::size_t>(unknowns));
 #pragma omp parallel
   {
     Accumulator splines(relevant), result(static_cast<std::size_t>(unknowns));
@@ -76,47 +91,57 @@ Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const s
     for (Eigen::Index p = 0; p < unknowns; ++p) {
       for (Eigen::SparseMatrix<double>::InnerIterator e(E, p); e; ++e) {
         const auto r = static_cast<std::size_t>(e.row());
-        const double* row = band.data() + r * static_cast<std::size_t>(stencil);
-        const auto spline = static_cast<long long>(basis.relevant[r]);
-        for (int o = 0; o < stencil; ++o) {
-          if (row[o] == 0.0) continue;
-          const long long j = basis.relevant_of[static_cast<std::size_t>(spline + shift[static_cast<std::size_t>(o)])];
-          splines.add(static_cast<std::size_t>(j), e.value() * row[o]);
-        }
+        for (std::size_t k = a_start[r]; k < a_start[r + 1]; ++k)
+          splines.add(static_cast<std::size_t>(a_entries[k].row), e.value() * a_entries[k].value);
       }
       for (const int j : splines.list()) {
         const double y = splines.take(j);
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator t(rows_of_e, j); t; ++t)
-          result.add(static_cast<std::size_t>(t.col()), t.value() * y);
+        // Row j of E, columns increasing: walk back from the last while >= p.
+        const auto begin = rows_of_e.outerIndexPtr()[j], end = rows_of_e.outerIndexPtr()[j + 1];
+        for (auto t = end - 1; t >= begin && rows_of_e.innerIndexPtr()[t] >= p; --t)
+          result.add(static_cast<std::size_t>(rows_of_e.innerIndexPtr()[t]), rows_of_e.valuePtr()[t] * y);
       }
       splines.list().clear();
       std::vector<int>& list = result.list();
       std::sort(list.begin(), list.end());
-      std::vector<Entry>& column = columns[static_cast<std::size_t>(p)];
+      std::vector<Entry>& column = lower[static_cast<std::size_t>(p)];
       column.reserve(list.size());
       for (const int i : list) column.push_back({i, result.take(i)});
       list.clear();
     }
   }
 
+  // The full symmetric matrix: column p holds the mirrored entries (p, i),
+  // i < p, in increasing i, then its own lower part.
+  const auto u = static_cast<std::size_t>(unknowns);
+  std::vector<std::size_t> upper_count(u, 0);
+  for (std::size_t p = 0; p < u; ++p)
+    for (const Entry& entry : lower[p])
+      if (static_cast<std::size_t>(entry.row) > p) ++upper_count[static_cast<std::size_t>(entry.row)];
   Eigen::SparseMatrix<double> system(unknowns, unknowns);
-  std::size_t total = 0;
-  for (const auto& column : columns) total += column.size();
-  system.resizeNonZeros(static_cast<Eigen::Index>(total));
+  std::vector<std::size_t> start(u + 1, 0);
+  for (std::size_t p = 0; p < u; ++p) start[p + 1] = start[p] + upper_count[p] + lower[p].size();
+  system.resizeNonZeros(static_cast<Eigen::Index>(start[u]));
   int* outer = system.outerIndexPtr();
   int* inner = system.innerIndexPtr();
   double* values = system.valuePtr();
-  std::size_t k = 0;
-  for (Eigen::Index p = 0; p < unknowns; ++p) {
-    outer[p] = static_cast<int>(k);
-    for (const Entry& entry : columns[static_cast<std::size_t>(p)]) {
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);  // next free upper slot per column
+  for (std::size_t p = 0; p < u; ++p) {
+    outer[p] = static_cast<int>(start[p]);
+    std::size_t k = start[p] + upper_count[p];
+    for (const Entry& entry : lower[p]) {
       inner[k] = entry.row;
       values[k] = entry.value;
       ++k;
+      const auto i = static_cast<std::size_t>(entry.row);
+      if (i == p) continue;
+      inner[next[i]] = static_cast<int>(p);
+      values[next[i]] = entry.value;
+      ++next[i];
     }
-    std::vector<Entry>().swap(columns[static_cast<std::size_t>(p)]);
+    std::vector<Entry>().swap(lower[p]);
   }
-  outer[unknowns] = static_cast<int>(k);
+  outer[u] = static_cast<int>(start[u]);
   return system;
 }
 

@@ -6,10 +6,11 @@
 // spline i + o - n, o_a in 0..2n; slots of splines that are not relevant
 // hold 0.
 //
-// Computed in two row passes with a dense accumulator, T = A E and then
-// E^T T column by column (the system is symmetric): the same sums as a
-// general sparse product, without building A as a sparse matrix or
-// changing storage orders, which took most of the time on the 3D grids.
+// Computed column by column with dense accumulators, E^T (A E(:, p)),
+// the lower triangle only and then mirrored (the system is symmetric):
+// the sums of a general sparse product, without the sparse matrix of the
+// relevant splines, the storage-order conversions and the upper half that
+// took most of Eigen's E^T A E on the 3D grids.
 
 #include <sage/solver/web_basis.hpp>
 
@@ -19,8 +20,9 @@
 
 namespace sage::solver {
 
-/// E^T A E (unknowns x unknowns, column-major, columns sorted); `band`
-/// holds relevant x (2n + 1)^D values as described above.
+/// E^T A E (unknowns x unknowns, column-major, rows sorted in each
+/// column); `band` holds relevant x (2n + 1)^D values as described above,
+/// of a symmetric A (only its rows are read, as columns too).
 template <int D>
 Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band);
 
