@@ -4,6 +4,7 @@
 #include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/poisson.hpp>
+#include <sage/solver/tensor_cell_stiffness.hpp>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -468,12 +469,17 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     std::vector<double> own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
     Eigen::VectorXd mean_rhs(local_count);
     double own_data_size = 0.0;
+    // 3D inside cells: stiffness by sum factorization, from these per-point coefficients.
+    TensorCellStiffness tensor(n, inside_points, grid.h);
+    std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
+    std::array<std::vector<double>, 3> c1{c0, c0, c0};
 #pragma omp for schedule(dynamic, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto& points = volume[k];
       if (points.empty()) continue;
       const auto cell = grid.cell_index(candidates[k]);
       const bool tabulated = kinds[candidates[k]] == CellKind::Inside && points.size() == inside_table.points;
+      const bool factorized = D == 3 && tabulated && !structured;
       const auto columns = static_cast<Eigen::Index>(points.size() * D);
       if (gradients.cols() < columns) gradients.resize(local_count, columns);
       rhs.setZero();
@@ -546,12 +552,26 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         for (int a = 0; a < D; ++a) {
           const Eigen::Map<const Eigen::VectorXd> slopes(slope_data[a], local_count);
           rhs -= (q.weight * conductivity * gg[a] * w.value()) * slopes;
+          if (factorized) continue;
           gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a))) =
               (scale * gw[a]) * values + (scale * w.value()) * slopes;
         }
+        if (!factorized) continue;
+        const double scale2 = scale * scale;
+        double slope2 = 0.0;
+        for (int a = 0; a < D; ++a) {
+          slope2 += gw[a] * gw[a];
+          c1[static_cast<std::size_t>(a)][p] = scale2 * w.value() * gw[a];
+        }
+        c0[p] = scale2 * slope2;
+        c2[p] = scale2 * w.value() * w.value();
       }
-      stiffness.setZero();
-      stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients.leftCols(columns));
+      if (factorized) {
+        tensor.compute(c0.data(), {c1[0].data(), c1[1].data(), c1[2].data()}, c2.data(), stiffness);
+      } else {
+        stiffness.setZero();
+        stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients.leftCols(columns));
+      }
       for (const auto& s : surface[k]) {
         surface_eval.evaluate(s.x.data());
         const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance);
