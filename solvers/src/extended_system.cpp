@@ -82,7 +82,7 @@ Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const s
 
   // Column p of E^T A E is E^T (A e) with e = E(:, p): A e from the rows
   // of A at e's splines (A is symmetric), then E^T of that; only rows
-  // i >= p (the lower triangle), mirrored below.
+  // i >= p (the lower triangle).
   std::vector<std::vector<Entry>> lower(static_cast<std::size_t>(unknowns));
 #pragma omp parallel
   {
@@ -111,37 +111,24 @@ Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const s
     }
   }
 
-  // The full symmetric matrix: column p holds the mirrored entries (p, i),
-  // i < p, in increasing i, then its own lower part.
-  const auto u = static_cast<std::size_t>(unknowns);
-  std::vector<std::size_t> upper_count(u, 0);
-  for (std::size_t p = 0; p < u; ++p)
-    for (const Entry& entry : lower[p])
-      if (static_cast<std::size_t>(entry.row) > p) ++upper_count[static_cast<std::size_t>(entry.row)];
   Eigen::SparseMatrix<double> system(unknowns, unknowns);
-  std::vector<std::size_t> start(u + 1, 0);
-  for (std::size_t p = 0; p < u; ++p) start[p + 1] = start[p] + upper_count[p] + lower[p].size();
-  system.resizeNonZeros(static_cast<Eigen::Index>(start[u]));
+  std::size_t total = 0;
+  for (const auto& column : lower) total += column.size();
+  system.resizeNonZeros(static_cast<Eigen::Index>(total));
   int* outer = system.outerIndexPtr();
   int* inner = system.innerIndexPtr();
   double* values = system.valuePtr();
-  std::vector<std::size_t> next(start.begin(), start.end() - 1);  // next free upper slot per column
-  for (std::size_t p = 0; p < u; ++p) {
-    outer[p] = static_cast<int>(start[p]);
-    std::size_t k = start[p] + upper_count[p];
-    for (const Entry& entry : lower[p]) {
+  std::size_t k = 0;
+  for (Eigen::Index p = 0; p < unknowns; ++p) {
+    outer[p] = static_cast<int>(k);
+    for (const Entry& entry : lower[static_cast<std::size_t>(p)]) {
       inner[k] = entry.row;
       values[k] = entry.value;
       ++k;
-      const auto i = static_cast<std::size_t>(entry.row);
-      if (i == p) continue;
-      inner[next[i]] = static_cast<int>(p);
-      values[next[i]] = entry.value;
-      ++next[i];
     }
-    std::vector<Entry>().swap(lower[p]);
+    std::vector<Entry>().swap(lower[static_cast<std::size_t>(p)]);
   }
-  outer[u] = static_cast<int>(start[u]);
+  outer[unknowns] = static_cast<int>(k);
   return system;
 }
 

@@ -103,7 +103,7 @@ void check_options(const PoissonProblem& problem, const SolverOptions& options) 
 template <class Preconditioner>
 Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
                                     double tolerance, SolveReport& report) {
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Preconditioner> cg;
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
   cg.setTolerance(tolerance);
   report.cg_tolerance = tolerance;
   cg.setMaxIterations(10 * system.rows() + 100);
@@ -614,7 +614,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       data_size += own_data_size;
     }
   }
-  Eigen::SparseMatrix<double> system = extended_system(basis, band);
+  Eigen::SparseMatrix<double> system = extended_system(basis, band);  // lower triangle
   band = std::vector<double>();
   const Eigen::SparseMatrix<double>& E = basis.extension;
   Eigen::VectorXd right =
@@ -636,7 +636,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     system.diagonal().maxCoeff(&pinned);
     system.coeffRef(pinned, pinned) *= 2.0;
   }
-  report.nonzeros = static_cast<std::size_t>(system.nonZeros());
+  std::size_t diagonal_entries = 0;
+  for (Eigen::Index p = 0; p < system.outerSize(); ++p) {
+    const Eigen::SparseMatrix<double>::InnerIterator first(system, p);
+    diagonal_entries += first && first.row() == p ? 1 : 0;
+  }
+  report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - diagonal_entries;  // of the whole matrix
   timer.lap(&StageSeconds::assembly);
 
   // Solve.
@@ -669,7 +674,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   timer.lap(&StageSeconds::solve);
 
   if (options.estimate_condition) {
-    const ConditionEstimate estimate = estimate_condition(system);
+    const ConditionEstimate estimate =
+        estimate_condition(Eigen::SparseMatrix<double>(system.selfadjointView<Eigen::Lower>()));
     report.condition = estimate.condition;
     report.scaled_condition = estimate.scaled_condition;
     timer.lap(&StageSeconds::condition);

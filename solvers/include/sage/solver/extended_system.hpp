@@ -7,10 +7,11 @@
 // hold 0.
 //
 // Computed column by column with dense accumulators, E^T (A E(:, p)),
-// the lower triangle only and then mirrored (the system is symmetric):
-// the sums of a general sparse product, without the sparse matrix of the
-// relevant splines, the storage-order conversions and the upper half that
-// took most of Eigen's E^T A E on the 3D grids.
+// and only the lower triangle: the sums of a general sparse product,
+// without the sparse matrix of the relevant splines, the storage-order
+// conversions and the upper half that took most of Eigen's E^T A E on
+// the 3D grids. The solvers read the lower triangle only (conjugate
+// gradients with Eigen::Lower: half the memory per product).
 
 #include <sage/solver/web_basis.hpp>
 
@@ -20,9 +21,9 @@
 
 namespace sage::solver {
 
-/// E^T A E (unknowns x unknowns, column-major, rows sorted in each
-/// column); `band` holds relevant x (2n + 1)^D values as described above,
-/// of a symmetric A (only its rows are read, as columns too).
+/// The lower triangle (diagonal included) of E^T A E: unknowns x
+/// unknowns, column-major, rows sorted in each column. `band` holds
+/// relevant x (2n + 1)^D values as described above, of a symmetric A.
 template <int D>
 Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band);
 
