@@ -1,5 +1,6 @@
 // sage solve PROBLEM.json -o OUT.vtu [--degree 3] [--cells 64 | --h 0.01]
-//            [--basis web|weighted] [--robin weak|structure] [--solver auto|direct|cg|jacobi] [--grid RES]
+//            [--basis web|weighted] [--robin weak|structure] [--solver auto|direct|cg|jacobi] [--tolerance T]
+//            [--grid RES]
 //            [--quadrature-points FILE.vtu] [--condition | --no-condition] [--quiet]
 
 #include "commands.hpp"
@@ -137,6 +138,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
               r.outer_splines, r.nonzeros);
   std::printf("  solver: %s, %d iteration%s", r.linear_solver.c_str(), r.iterations, r.iterations == 1 ? "" : "s");
+  if (r.cg_tolerance > 0.0) std::printf(" (relative residual <= %.1e)", r.cg_tolerance);
   if (std::isfinite(r.condition))
     std::printf("; condition estimate %.3g (%.3g after diagonal scaling)", r.condition, r.scaled_condition);
   std::printf("\n");
@@ -177,6 +179,9 @@ int run_solve(const std::vector<std::string>& args) {
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
       "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
       "or jacobi (conjugate gradients, Jacobi)");
+  add("tolerance", po::value(&command.options.cg_tolerance),
+      "relative residual of conjugate gradients (default (h/L)^(degree+3) within [1e-12, 1e-6], L the "
+      "box's longest side: below the discretization error)");
   add("grid", po::value(&command.grid), "output points per axis, e.g. 200x200 (default: 4 per cell)");
   add("quadrature-points", po::value(&command.quadrature_path), "also write the quadrature points to this .vtu");
   add("no-condition", "skip the condition estimate (2D default: on)");
@@ -197,6 +202,8 @@ int run_solve(const std::vector<std::string>& args) {
     throw UsageError{"--degree must be from 1 to " + std::to_string(solver::kMaxDegree)};
   if (command.cells && *command.cells < 1) throw UsageError{"--cells must be positive"};
   if (command.h && !(*command.h > 0.0)) throw UsageError{"--h must be positive"};
+  if (vm.count("tolerance") && !(command.options.cg_tolerance > 0.0 && command.options.cg_tolerance < 1.0))
+    throw UsageError{"--tolerance must be in (0, 1)"};
   try {
     command.options.basis = solver::parse_basis_kind(command.basis);
   } catch (const std::invalid_argument& e) {

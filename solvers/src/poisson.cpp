@@ -1,17 +1,25 @@
 #include <sage/solver/boundary_structure.hpp>
 #include <sage/solver/condition.hpp>
+#include <sage/solver/extended_system.hpp>
+#include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/poisson.hpp>
+#include <sage/solver/tensor_cell_stiffness.hpp>
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <stdexcept>
 #include <string>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace sage::solver {
 
@@ -86,15 +94,18 @@ void check_options(const PoissonProblem& problem, const SolverOptions& options) 
                                 std::to_string(options.degree));
   if (!(options.cell_width > 0.0) || !std::isfinite(options.cell_width))
     throw std::invalid_argument("cell width h must be positive");
+  if (!(options.cg_tolerance >= 0.0 && options.cg_tolerance < 1.0))
+    throw std::invalid_argument("the conjugate gradients tolerance must be in [0, 1) (0: automatic)");
   for (int a = 0; a < D; ++a)
     if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
 }
 
 template <class Preconditioner>
 Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
-                                    const SolverOptions& options, SolveReport& report) {
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower | Eigen::Upper, Preconditioner> cg;
-  cg.setTolerance(options.cg_tolerance);
+                                    double tolerance, SolveReport& report) {
+  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
+  cg.setTolerance(tolerance);
+  report.cg_tolerance = tolerance;
   cg.setMaxIterations(10 * system.rows() + 100);
   cg.compute(system);
   if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
@@ -104,6 +115,41 @@ Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, c
     throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
                              " iterations (relative residual " + std::to_string(cg.error()) + ")");
   return x;
+}
+
+/// Local B-splines and their gradients at the points of the tensor Gauss
+/// rule of an inside cell, in the order of CellQuadrature::append_rule
+/// (x fastest): value[p * local + k], gradient[a][p * local + k].
+struct InsideSplineTable {
+  std::size_t points = 0;
+  std::vector<double> value;
+  std::array<std::vector<double>, 3> gradient;
+};
+
+template <int D>
+InsideSplineTable inside_spline_table(const BackgroundGrid<D>& grid, int rule_points) {
+  const GaussRule& rule = gauss_legendre(rule_points);
+  InsideSplineTable table;
+  table.points = 1;
+  for (int a = 0; a < D; ++a) table.points *= static_cast<std::size_t>(rule_points);
+  const auto local = static_cast<std::size_t>(grid.local_count());
+  table.value.resize(table.points * local);
+  for (int a = 0; a < D; ++a) table.gradient[a].resize(table.points * local);
+  LocalSplines<D> splines;
+  const std::array<int, D> cell{};  // the first cell: t = Gauss node on every axis
+  for (std::size_t p = 0; p < table.points; ++p) {
+    std::array<double, D> x{};
+    std::size_t rest = p;
+    for (int a = 0; a < D; ++a) {
+      x[a] = grid.lo[a] + grid.h * rule.nodes[rest % static_cast<std::size_t>(rule_points)];
+      rest /= static_cast<std::size_t>(rule_points);
+    }
+    splines.evaluate(grid, cell, x.data());
+    std::copy(splines.value.begin(), splines.value.end(), table.value.begin() + p * local);
+    for (int a = 0; a < D; ++a)
+      std::copy(splines.gradient[a].begin(), splines.gradient[a].end(), table.gradient[a].begin() + p * local);
+  }
+  return table;
 }
 
 std::string scientific(double x) {
@@ -181,6 +227,11 @@ void check_robin_structure(const BoundaryStructure& structure, const TrialStruct
 }
 
 }  // namespace
+
+double automatic_cg_tolerance(double cell_width, double longest_side, int degree) {
+  const double tolerance = std::pow(cell_width / longest_side, degree + 3);
+  return std::min(std::max(tolerance, 1e-12), 1e-6);
+}
 
 template <int D>
 PoissonSolution<D>::Probe::Probe(const PoissonSolution& solution)
@@ -392,6 +443,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   }
   for (int a = D - 1; a >= 0; --a) stencil_centre = stencil_centre * (2 * n + 1) + n;
   const double selector_tolerance = 1e-6 * grid.h;
+  // Inside cells all carry the same tensor Gauss rule relative to the
+  // cell, so their local B-splines and gradients at the rule's points are
+  // the same too: tabulated once (point p, spline k at p * local_count + k).
+  const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
 
 #pragma omp parallel
   {
@@ -399,19 +454,34 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     Evaluator<double> coefficient_eval(tapes.coefficients);
     Evaluator<double> surface_eval(tapes.surface);
     LocalSplines<D> local;
-    Eigen::MatrixXd gradients, stiffness(local_count, local_count);
+    Eigen::MatrixXd gradients(local_count, 0), stiffness(local_count, local_count);
     Eigen::VectorXd rhs(local_count), trial_values(local_count);
     std::vector<long long> rows(static_cast<std::size_t>(local_count));
-    // Each thread adds into its own band (no atomics); summed below.
-    std::vector<double> own_band(band.size(), 0.0), own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
+    // Each thread adds into its own band (no atomics), summed below; the
+    // first thread adds into `band` itself (one thread: no copy at all).
+#ifdef _OPENMP
+    const bool first_thread = omp_get_thread_num() == 0;
+#else
+    const bool first_thread = true;
+#endif
+    std::vector<double> own_band_storage(first_thread ? 0 : band.size(), 0.0);
+    std::vector<double>& own_band = first_thread ? band : own_band_storage;
+    std::vector<double> own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
     Eigen::VectorXd mean_rhs(local_count);
     double own_data_size = 0.0;
+    // 3D inside cells: stiffness by sum factorization, from these per-point coefficients.
+    TensorCellStiffness tensor(n, inside_points, grid.h);
+    std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
+    std::array<std::vector<double>, 3> c1{c0, c0, c0};
 #pragma omp for schedule(dynamic, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto& points = volume[k];
       if (points.empty()) continue;
       const auto cell = grid.cell_index(candidates[k]);
-      gradients.resize(local_count, static_cast<Eigen::Index>(points.size() * D));
+      const bool tabulated = kinds[candidates[k]] == CellKind::Inside && points.size() == inside_table.points;
+      const bool factorized = D == 3 && tabulated && !structured;
+      const auto columns = static_cast<Eigen::Index>(points.size() * D);
+      if (gradients.cols() < columns) gradients.resize(local_count, columns);
       rhs.setZero();
       mean_rhs.setZero();
       for (std::size_t p = 0; p < points.size() && structured; ++p) {
@@ -457,26 +527,51 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         const auto& g = structure_eval.result(1);
         const auto gw = w.gradient(), gg = g.gradient();
         const double conductivity = coefficient_eval.result(0), source = coefficient_eval.result(1);
-        local.evaluate(grid, cell, q.x.data());
+        const double* value_data = nullptr;
+        std::array<const double*, D> slope_data{};
+        if (tabulated) {
+          value_data = inside_table.value.data() + p * static_cast<std::size_t>(local_count);
+          for (int a = 0; a < D; ++a) slope_data[a] = inside_table.gradient[a].data() + p * local_count;
+        } else {
+          local.evaluate(grid, cell, q.x.data());
+          value_data = local.value.data();
+          for (int a = 0; a < D; ++a) slope_data[a] = local.gradient[a].data();
+        }
         const double scale = std::sqrt(std::max(conductivity, 0.0) * q.weight);
         // Column a of point p: scale * d v_j / dx_a for every j, with
         // grad v_j = B_j grad w + w grad B_j (contiguous, vectorizable).
-        const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
-        rhs += (q.weight * source * w.value()) * values;
+        // The load (f, v_j) - (k grad g, grad v_j) is alpha B_j + beta . grad B_j.
+        const Eigen::Map<const Eigen::VectorXd> values(value_data, local_count);
+        double alpha = source * w.value();
+        for (int a = 0; a < D; ++a) alpha -= conductivity * gg[a] * gw[a];
+        rhs += (q.weight * alpha) * values;
         if (pure_neumann) {
           mean_rhs += (q.weight * w.value()) * values;
           own_data_size += q.weight * std::abs(source);
         }
         for (int a = 0; a < D; ++a) {
-          const Eigen::Map<const Eigen::VectorXd> slopes(local.gradient[a].data(), local_count);
-          auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
-          column = gw[a] * values + w.value() * slopes;
-          rhs -= (q.weight * conductivity * gg[a]) * column;
-          column *= scale;
+          const Eigen::Map<const Eigen::VectorXd> slopes(slope_data[a], local_count);
+          rhs -= (q.weight * conductivity * gg[a] * w.value()) * slopes;
+          if (factorized) continue;
+          gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a))) =
+              (scale * gw[a]) * values + (scale * w.value()) * slopes;
         }
+        if (!factorized) continue;
+        const double scale2 = scale * scale;
+        double slope2 = 0.0;
+        for (int a = 0; a < D; ++a) {
+          slope2 += gw[a] * gw[a];
+          c1[static_cast<std::size_t>(a)][p] = scale2 * w.value() * gw[a];
+        }
+        c0[p] = scale2 * slope2;
+        c2[p] = scale2 * w.value() * w.value();
       }
-      stiffness.setZero();
-      stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients);
+      if (factorized) {
+        tensor.compute(c0.data(), {c1[0].data(), c1[1].data(), c1[2].data()}, c2.data(), stiffness);
+      } else {
+        stiffness.setZero();
+        stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients.leftCols(columns));
+      }
       for (const auto& s : surface[k]) {
         surface_eval.evaluate(s.x.data());
         const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance);
@@ -509,35 +604,19 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += column[l];
       }
     }
+#pragma omp barrier
 #pragma omp critical
     {
-      for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
+      if (!first_thread)
+        for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
       for (std::size_t i = 0; i < mean_load.size(); ++i) mean_load[i] += own_mean[i];
       data_size += own_data_size;
     }
   }
-  std::vector<Eigen::Triplet<double>> entries;
-  for (std::size_t r = 0; r < relevant; ++r) {
-    const auto i = grid.spline_index(basis.relevant[r]);
-    for (int offset = 0; offset < stencil; ++offset) {
-      const double value = band[r * static_cast<std::size_t>(stencil) + static_cast<std::size_t>(offset)];
-      if (value == 0.0) continue;
-      auto j = i;
-      int rest = offset;
-      for (int a = 0; a < D; ++a) {
-        j[a] += rest % (2 * n + 1) - n;
-        rest /= 2 * n + 1;
-      }
-      entries.emplace_back(static_cast<Eigen::Index>(r), basis.relevant_of[grid.spline_linear(j)], value);
-    }
-  }
+  Eigen::SparseMatrix<double> system = extended_system(basis, band);  // lower triangle
   band = std::vector<double>();
-  Eigen::SparseMatrix<double> spline_matrix(static_cast<Eigen::Index>(relevant), static_cast<Eigen::Index>(relevant));
-  spline_matrix.setFromTriplets(entries.begin(), entries.end());
-  entries = {};
-  const Eigen::SparseMatrix<double> E = basis.extension;
-  Eigen::SparseMatrix<double> system = E.transpose() * spline_matrix * E;
+  const Eigen::SparseMatrix<double>& E = basis.extension;
   Eigen::VectorXd right =
       E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
   Eigen::VectorXd mean_row;  // (v_i, 1) per unknown, pure Neumann only
@@ -557,13 +636,22 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     system.diagonal().maxCoeff(&pinned);
     system.coeffRef(pinned, pinned) *= 2.0;
   }
-  report.nonzeros = static_cast<std::size_t>(system.nonZeros());
+  std::size_t diagonal_entries = 0;
+  for (Eigen::Index p = 0; p < system.outerSize(); ++p) {
+    const Eigen::SparseMatrix<double>::InnerIterator first(system, p);
+    diagonal_entries += first && first.row() == p ? 1 : 0;
+  }
+  report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - diagonal_entries;  // of the whole matrix
   timer.lap(&StageSeconds::assembly);
 
   // Solve.
   LinearSolverKind kind = options.linear_solver;
   if (kind == LinearSolverKind::Automatic)
     kind = D == 2 ? LinearSolverKind::ConjugateGradient : LinearSolverKind::JacobiConjugateGradient;
+  double longest = 0.0;
+  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double tolerance =
+      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
   Eigen::VectorXd coefficients;
   if (kind == LinearSolverKind::Direct) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
@@ -574,10 +662,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "sparse LDLT (AMD ordering)";
     report.iterations = 1;
   } else if (kind == LinearSolverKind::ConjugateGradient) {
-    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, options, report);
+    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
     report.linear_solver = "conjugate gradients, incomplete Cholesky";
   } else {
-    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, options, report);
+    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report);
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
@@ -586,7 +674,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   timer.lap(&StageSeconds::solve);
 
   if (options.estimate_condition) {
-    const ConditionEstimate estimate = estimate_condition(system);
+    const ConditionEstimate estimate =
+        estimate_condition(Eigen::SparseMatrix<double>(system.selfadjointView<Eigen::Lower>()));
     report.condition = estimate.condition;
     report.scaled_condition = estimate.scaled_condition;
     timer.lap(&StageSeconds::condition);

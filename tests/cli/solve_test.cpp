@@ -40,6 +40,8 @@ TEST(CliSolve, DiskExampleReachesItsExactSolution) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("relative errors: L2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("condition estimate"), std::string::npos) << r.output;
+  // The automatic tolerance (h/L)^(n+3) with h/L = 1/16, n = 3: 16^-6.
+  EXPECT_NE(r.output.find("relative residual <= 6.0e-08"), std::string::npos) << r.output;
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(out.c_str());
   reader->Update();
@@ -185,6 +187,9 @@ TEST(CliSolve, UsageErrorsExitTwo) {
   EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --cells 8 --h 0.1").exit_code, 2);
   EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --degree 9").exit_code, 2);
   EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --basis spline").exit_code, 2);
+  for (const char* tolerance : {"0", "1", "-1e-8", "small"})
+    EXPECT_EQ(run("solve " + p + " -o " + scratch("x.vtu").string() + " --tolerance " + tolerance).exit_code, 2)
+        << tolerance;
   EXPECT_EQ(run("solve " + p).exit_code, 2);
   EXPECT_EQ(run("solve --help").exit_code, 0);
 }
