@@ -4,7 +4,8 @@
 // and gradient, interval-pruned tapes, pruned_grid.hpp) on all cores, in
 // points per second; and beside it, in the same run, brute force (every
 // point runs the whole tape, value and gradient, all cores) measured on a
-// few points and extrapolated to the grid.
+// few points and extrapolated to the grid. For min/max gluing it first
+// prints how far specialization shrinks the tape over nested boxes.
 //
 // Usage: mesh_bench [MESH] [N] [RFUNCTION ...]   (defaults: bunny00.off, 128, minmax r0)
 
@@ -12,9 +13,12 @@
 #include <sage/field_samples.hpp>
 #include <sage/geometry/mesh_model.hpp>
 #include <sage/grid.hpp>
+#include <sage/tape_specialization.hpp>
 
 #include <chrono>
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +44,30 @@ double brute_force_per_point(const sage::Tape& tape, const sage::Grid& grid, std
     }
   }
   return seconds(start) / static_cast<double>(samples);
+}
+
+/// Instructions left after specializing over nested boxes, 1/2 to 1/256
+/// of the grid's extent, centred at `fraction` of the way along its
+/// diagonal: how fast interval pruning shrinks the tape.
+void print_shrinking(const sage::Tape& tape, const sage::Grid& grid, double fraction) {
+  std::printf("  boxes around %.1f of the diagonal:", fraction);
+  const sage::Tape* current = &tape;
+  std::vector<std::unique_ptr<sage::Tape>> kept;
+  for (int depth = 1; depth <= 8; ++depth) {
+    std::array<sage::Interval, 3> box{};
+    for (int a = 0; a < 3; ++a) {
+      const double centre = grid.lo[a] + fraction * (grid.hi[a] - grid.lo[a]);
+      const double half = 0.5 * (grid.hi[a] - grid.lo[a]) / (1 << depth);
+      box[a] = sage::Interval(centre - half, centre + half);
+    }
+    sage::TapeSpecializer specializer(*current);
+    if (std::optional<sage::Tape> smaller = specializer.specialize(box.data())) {
+      kept.push_back(std::make_unique<sage::Tape>(std::move(*smaller)));
+      current = kept.back().get();
+    }
+    std::printf(" 1/%d: %zu", 1 << depth, current->code().size());
+  }
+  std::printf("\n");
 }
 
 }  // namespace
@@ -69,6 +97,10 @@ int main(int argc, char** argv) {
     grid.lo = model.bounds->min;
     grid.hi = model.bounds->max;
     grid.points = {n, n, n};
+    if (model.rfunction.kind == sage::RKind::MinMax) {
+      std::printf("%-8s tape left after specializing (of %zu instructions):\n", name.c_str(), tape.code().size());
+      for (double fraction : {0.5, 0.3, 0.1}) print_shrinking(tape, grid, fraction);
+    }
     const double brute = brute_force_per_point(tape, grid, 256) * static_cast<double>(grid.size());
 
     // Pruning pays off for min/max gluing only (R-function nodes depend on

@@ -47,8 +47,12 @@ inline std::array<Interval, 3> block_box(const Grid& grid, const GridBlock& b) {
   return box;
 }
 
-constexpr std::size_t kLeafPoints = 32;   // evaluate point by point below this
-constexpr std::size_t kSmallTape = 16;    // too short to be worth specializing
+constexpr std::size_t kLeafPoints = 32;  // evaluate without specializing below this
+constexpr std::size_t kSmallTape = 16;   // too short to be worth specializing
+// Over a block of m points a specialization costs about two passes of the
+// tape and saves m passes of what it drops: with long tapes (large meshes,
+// where shrinking is slow) it pays down to blocks of a few points.
+constexpr std::size_t kLongTape = 4096;
 constexpr int kTaskDepth = 8;             // deeper blocks run in their parent's task
 constexpr std::size_t kBatchPoints = 64;  // points per BatchEvaluator run
 
@@ -91,7 +95,8 @@ template <class T, class Visit>
 void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Visit& visit, int depth,
                  std::atomic<std::size_t>& done, const Progress& progress, const BlockPlan& plan) {
   const bool patch = plan.approximation && block.size() >= plan.patch_points;
-  const bool prune = plan.prune && block.size() > kLeafPoints;
+  const bool prune =
+      plan.prune && (block.size() > kLeafPoints || (block.size() >= 4 && tape.code().size() > kLongTape));
   if ((patch || prune) && tape.code().size() > kSmallTape) {
     TapeSpecializer& specializer = thread_specializer(tape);
     const std::array<Interval, 3> box = block_box(grid, block);
