@@ -21,6 +21,7 @@
 #include <sage/tuple.hpp>
 
 #include <array>
+#include <type_traits>
 #include <vector>
 
 #if defined(__GNUC__)
@@ -95,8 +96,10 @@ SAGE_ALWAYS_INLINE T apply_op(const Instruction& ins, const T& a, const T& b) {
     return a * ins.p0 + b * ins.p1;
   else if constexpr (op == Op::RAnd || op == Op::ROr) {
     const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
-    // min/max nodes fill large CSG trees: spare them the general call.
-    if (s.kind == RKind::MinMax) return op == Op::RAnd ? min(a, b) : max(a, b);
+    // min/max nodes fill large CSG trees: spare points the general call.
+    // (Intervals keep it: its end-point rule maps NaN ends to infinities.)
+    if constexpr (!std::is_same_v<T, Interval>)
+      if (s.kind == RKind::MinMax) return op == Op::RAnd ? min(a, b) : max(a, b);
     return r_combine(a, b, s, op == Op::RAnd ? -1.0 : 1.0);
   } else if constexpr (op == Op::Const)
     return T(ins.p0);
