@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <string>
 
 namespace sage::render {
 namespace {
@@ -66,10 +67,10 @@ TEST(BoundedRender, EnclosureOutsideTheSupportsIsZero) {
 }
 
 TEST(BoundedRender, RaysHitTheRightSurface) {
-  for (const char* variant : {"", " with profile", " sharp"}) {
+  for (const std::string variant : {"", " with profile", " sharp"}) {
     BoundedTransition t = transition();
-    if (variant[1] == 'w') t.profile_points = {{0.05, 0.72, 0}};
-    t.sharp = variant[1] == 's';
+    if (variant == " with profile") t.profile_points = {{0.05, 0.72, 0}};
+    t.sharp = variant == " sharp";
     const FieldTapes tapes(bounded_union_of_balls(t));
     RayCaster caster(tapes, 1e-7);
     // Along -x from (3, 0, 0): the left ball's field (0.64 - (x + 0.5)^2) /
