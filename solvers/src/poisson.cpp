@@ -228,6 +228,14 @@ void check_robin_structure(const BoundaryStructure& structure, const TrialStruct
 
 }  // namespace
 
+// W times the splines' second derivatives costs O(band h^(n-1)) in H1, the layer of width band that
+// the cut puts into the preimage of the solution O(h^n band^(1.5-n)); band ~ h^(1/n) balances the two
+// (README, Robin structure).
+double robin_band_width(double fraction, double cell_width, double longest_side, int degree) {
+  if (fraction <= 0.0) return 0.0;
+  return fraction * longest_side * std::pow(cell_width / longest_side, 1.0 / degree);
+}
+
 double automatic_cg_tolerance(double cell_width, double longest_side, int degree) {
   const double tolerance = std::pow(cell_width / longest_side, degree + 3);
   return std::min(std::max(tolerance, 1e-12), 1e-6);
@@ -355,7 +363,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   if (structured && n < 2)
     throw std::invalid_argument(
         "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
-  const TrialStructure trial = structured ? robin_trial(problem, structure) : dirichlet_trial(structure);
+  double longest = 0.0;
+  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const TrialStructure trial =
+      structured ? robin_trial(problem, structure, robin_band_width(options.robin_band, grid.h, longest, n),
+                               options.robin_band_power)
+                 : dirichlet_trial(structure);
   if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
@@ -648,8 +661,6 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   LinearSolverKind kind = options.linear_solver;
   if (kind == LinearSolverKind::Automatic)
     kind = D == 2 ? LinearSolverKind::ConjugateGradient : LinearSolverKind::JacobiConjugateGradient;
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
   const double tolerance =
       options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
   Eigen::VectorXd coefficients;

@@ -61,6 +61,10 @@ struct SolverOptions {
   double cell_width = 0.05;  // h of the background grid
   BasisKind basis = BasisKind::Web;
   RobinRoute robin = RobinRoute::Weak;  // Structure needs degree >= 2
+  // Structure route: the multiplier W is cut off at robin_band_width(): robin_band L (h / L)^(1/n), L the
+  // longest side of the box, n the degree; 0 keeps the global W. robin_band_power: the cut-off's power (>= 2).
+  double robin_band = 0.4;
+  int robin_band_power = 8;
   LinearSolverKind linear_solver = LinearSolverKind::Automatic;
   bool estimate_condition = true;
   int quadrature_points = 0;     // per direction; 0: degree + 2
@@ -68,6 +72,9 @@ struct SolverOptions {
   double cg_tolerance = 0.0;     // relative residual; 0: automatic_cg_tolerance()
   bool keep_quadrature = false;  // fill PoissonSolution::quadrature (to show users the rule)
 };
+
+/// The structure route's cut-off distance (SolverOptions::robin_band).
+double robin_band_width(double fraction, double cell_width, double longest_side, int degree);
 
 /// The quadrature points used, for display: 3 coordinates per point (z = 0
 /// in 2D), the weight, and 1 for surface points, 0 for volume points.

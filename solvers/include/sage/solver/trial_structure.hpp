@@ -65,7 +65,16 @@ struct TrialStructure {
 
 TrialStructure dirichlet_trial(const BoundaryStructure& structure);
 
-/// The structure route. Requires structure.has_weak_parts.
-TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure);
+/// W cut off at distance band from the structured parts:
+/// W (1 - W / band)_+^power = band psi(W / band) with psi(s) = s (1 - s)^power
+/// for s < 1, 0 beyond. psi(0) = 0 and psi'(0) = 1 keep W normalized on the
+/// structured parts; the cut-off is C^(power - 1). band <= 0 returns W.
+Expr localized_weight(const Expr& w, double band, int power);
+
+/// The structure route. Requires structure.has_weak_parts. band > 0 cuts W
+/// off (localized_weight) with the given power (>= 3: the solver takes
+/// second derivatives of W); band <= 0 keeps the global W.
+TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure, double band = 0.0,
+                           int power = 3);
 
 }  // namespace sage::solver
