@@ -12,17 +12,22 @@
 // Rvachev's structure for Robin and Neumann parts (structure route): with
 // P = g~ + omega_D Phi, Phi = sum c_j B_j, and W a field vanishing on the
 // Dirichlet parts and the structured parts, normalized there so that
-// grad W = -n (n the outward normal; W >= 0 inside), and D1 = grad W . grad:
+// grad W = -n (n the outward normal; W >= 0 inside), D1 = grad W . grad,
+// and V = localized_weight(W, band) (V = W (1 - W / band)_+^m: V = 0 and
+// grad V = grad W on the parts, V = 0 from W = band on):
 //
-//     u = P - W D1(P) + W (beta P - h) / k.
+//     u = P - V D1(P) + V (beta P - h) / k.
 //
-// On a structured part W = 0, D1(W) = |grad W|^2 = 1, so u = P and
+// On a structured part V = 0, D1(V) = |grad W|^2 = 1, so u = P and
 // D1(u) = D1(P) - D1(P) + (beta P - h) / k = (beta u - h) / k; since
 // D1(u) = -du/dn there, this is k du/dn + beta u = h, for every Phi. On a
-// Dirichlet part W = 0 and omega_D = 0, so u = g~. Written per spline:
-//     scale = omega_D (1 + W beta / k) - W D1(omega_D),
-//     transport = W omega_D grad W,
-//     u0 = g~ (1 + W beta / k) - W D1(g~) - W h / k.
+// Dirichlet part V = 0 and omega_D = 0, so u = g~. Written per spline:
+//     scale = omega_D (1 + V beta / k) - V D1(omega_D),
+//     transport = V omega_D grad W,
+//     u0 = g~ (1 + V beta / k) - V D1(g~) - V h / k.
+// Why the cut: grad u holds V times second derivatives of Phi, which
+// degree-n splines approximate to O(h^(n-1)) only; with V = W = O(1) inside
+// the route loses an order, with V = O(band) it does not (README).
 //
 // W: omega_R, the R0-conjunction of the named Neumann and Robin parts'
 // oriented selectors, each normalized (FORMULAS.md); with Dirichlet parts
@@ -57,7 +62,7 @@ struct TrialStructure {
   Expr scale;                          // omega_D for the Dirichlet structure
   std::vector<Expr> transport;         // empty for the Dirichlet structure, else one per axis
   Expr offset;                         // u0
-  Expr robin_weight;                   // W (0 for the Dirichlet structure)
+  Expr robin_weight;                   // V, the cut-off W (0 for the Dirichlet structure)
   Expr robin_field;                    // omega_R, for the checks of the solver (0 for the Dirichlet structure)
   bool joined_with_dirichlet = false;  // W built with omega_D (singular where omega_D and omega_R both vanish)
   bool structured() const { return !transport.empty(); }
