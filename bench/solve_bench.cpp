@@ -16,7 +16,9 @@
 // `solve_bench robin` (not part of `all`): the square (-1,1)^2 minus the
 // disk r = 0.4 with a Robin hole (beta = 1), degrees 2 and 3, h = 0.2 down
 // to 0.0125: errors and rates of the weak route and of the Robin structure
-// with the global W (robin_band 0) and with the cut-off W (the default).
+// with the global W (robin_band 0) and with the cut-off W (the default);
+// then the unit ball of examples/problems/ball_robin.json with both weights
+// (12, 16, 24 cells across).
 //
 //   solve_bench [disk|ball|robin|all]     (OMP_NUM_THREADS=1 for one-thread figures)
 
@@ -111,28 +113,32 @@ PoissonProblem square_with_robin_hole() {
   return problem;
 }
 
-void robin_rates(const char* title, const PoissonProblem& problem, int degree, RobinRoute route, double band) {
+template <int D>
+void robin_rates(const char* title, const PoissonProblem& problem, int degree, RobinRoute route, double band,
+                 const std::vector<double>& widths) {
   std::printf("\n%s, degree %d\n%8s %9s %10s %10s %7s %7s %8s\n", title, degree, "h", "unknowns", "L2 rel.", "H1 rel.",
               "L2 rate", "H1 rate", "cpu s");
-  double last_l2 = 0.0, last_h1 = 0.0;
-  for (double h : {0.2, 0.1, 0.05, 0.025, 0.0125}) {
+  double last_l2 = 0.0, last_h1 = 0.0, last_h = 0.0;
+  for (double h : widths) {
     SolverOptions options;
     options.degree = degree;
     options.cell_width = h;
     options.robin = route;
     options.robin_band = band;
     options.estimate_condition = false;
-    const SolveReport r = solve_poisson<2>(problem, options).report;
+    const SolveReport r = solve_poisson<D>(problem, options).report;
     const double l2 = *r.l2_error, h1 = *r.h1_error;
     if (last_l2 > 0.0)
-      std::printf("%8.4g %9zu %10.3e %10.3e %7.2f %7.2f %8.2f\n", h, r.unknowns, l2, h1, std::log2(last_l2 / l2),
-                  std::log2(last_h1 / h1), r.cpu_seconds.total() - r.cpu_seconds.errors);
+      std::printf("%8.4g %9zu %10.3e %10.3e %7.2f %7.2f %8.2f\n", h, r.unknowns, l2, h1,
+                  std::log(last_l2 / l2) / std::log(last_h / h), std::log(last_h1 / h1) / std::log(last_h / h),
+                  r.cpu_seconds.total() - r.cpu_seconds.errors);
     else
       std::printf("%8.4g %9zu %10.3e %10.3e %7s %7s %8.2f\n", h, r.unknowns, l2, h1, "", "",
                   r.cpu_seconds.total() - r.cpu_seconds.errors);
     std::fflush(stdout);
     last_l2 = l2;
     last_h1 = h1;
+    last_h = h;
   }
 }
 
@@ -162,11 +168,29 @@ int main(int argc, char** argv) {
   if (which == "robin") {
     const PoissonProblem problem = square_with_robin_hole();
     const double band = SolverOptions{}.robin_band;
+    const std::vector<double> widths{0.2, 0.1, 0.05, 0.025, 0.0125};
     for (int degree : {2, 3}) {
-      robin_rates("Square minus disk, Robin hole: weak route", problem, degree, RobinRoute::Weak, band);
-      robin_rates("Same, Robin structure, global W (robin_band 0)", problem, degree, RobinRoute::Structure, 0.0);
-      robin_rates("Same, Robin structure, cut-off W (default robin_band)", problem, degree, RobinRoute::Structure,
-                  band);
+      robin_rates<2>("Square minus disk, Robin hole: weak route", problem, degree, RobinRoute::Weak, band, widths);
+      robin_rates<2>("Same, Robin structure, global W (robin_band 0)", problem, degree, RobinRoute::Structure, 0.0,
+                     widths);
+      robin_rates<2>("Same, Robin structure, cut-off W (default robin_band)", problem, degree, RobinRoute::Structure,
+                     band, widths);
+    }
+    // examples/problems/ball_robin.json: Robin on the whole sphere, u = 2 - r^2.
+    const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+    PoissonProblem sphere;
+    sphere.dimension = 3;
+    sphere.domain = ball({0, 0, 0}, 1.0, 3);
+    sphere.min = {-1, -1, -1};
+    sphere.max = {1, 1, 1};
+    sphere.source = 6.0;
+    sphere.exact = 2.0 - square(x) - square(y) - square(z);
+    sphere.rest = BoundaryPart{"default", Expr(0.0), BoundaryKind::Robin, 0.0, 2.0, 0.0};
+    const std::vector<double> ball_widths{2.0 / 12, 2.0 / 16, 2.0 / 24};
+    for (int degree : {2, 3}) {
+      robin_rates<3>("Unit ball, Robin on the sphere: structure, global W", sphere, degree, RobinRoute::Structure, 0.0,
+                     ball_widths);
+      robin_rates<3>("Same, structure, cut-off W", sphere, degree, RobinRoute::Structure, band, ball_widths);
     }
   }
   return 0;

@@ -63,7 +63,7 @@ struct SolverOptions {
   RobinRoute robin = RobinRoute::Weak;  // Structure needs degree >= 2
   // Structure route: the multiplier W is cut off at robin_band_width(): robin_band L (h / L)^(1/n), L the
   // longest side of the box, n the degree; 0 keeps the global W. robin_band_power: the cut-off's power (>= 2).
-  double robin_band = 0.4;
+  double robin_band = 1.0;
   int robin_band_power = 8;
   LinearSolverKind linear_solver = LinearSolverKind::Automatic;
   bool estimate_condition = true;
