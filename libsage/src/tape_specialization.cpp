@@ -1,9 +1,11 @@
+#include <sage/batch_evaluator.hpp>
 #include <sage/evaluator.hpp>
 #include <sage/tape_specialization.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 
 namespace sage {
 
@@ -26,16 +28,29 @@ bool is_instruction(Source s) { return s >= 0; }
 
 }  // namespace
 
+constexpr std::size_t kNoProducer = static_cast<std::size_t>(-1);  // a variable or constant
+
+// decide()'s per-instruction records for prune_by_bounds().
+struct TapeSpecializer::Bounds {
+  std::vector<std::size_t> producer_of_register, producer_a, producer_b;
+  std::vector<std::uint32_t> readers;  // how many instructions read each (roots count as more)
+  std::vector<Interval> out;           // each instruction's enclosure
+  std::vector<double> up, low;
+};
+
 struct TapeSpecializer::Scratch {
   std::vector<Source> source_of_register;
   std::vector<double> constants;
-  std::vector<Source> arg_a, arg_b, roots;
+  std::vector<Source> arg_a, arg_b, output, roots;
   std::vector<char> live, constant_live;
   std::vector<std::size_t> last_use;
   std::vector<std::uint32_t> constant_register, reg, free_registers;
 };
 
-TapeSpecializer::TapeSpecializer(const Tape& tape) : scratch_(std::make_unique<Scratch>()) { rebind(tape); }
+TapeSpecializer::TapeSpecializer(const Tape& tape)
+    : scratch_(std::make_unique<Scratch>()), bounds_(std::make_unique<Bounds>()) {
+  rebind(tape);
+}
 TapeSpecializer::~TapeSpecializer() = default;
 TapeSpecializer::TapeSpecializer(TapeSpecializer&&) noexcept = default;
 TapeSpecializer& TapeSpecializer::operator=(TapeSpecializer&&) noexcept = default;
@@ -145,6 +160,12 @@ bool TapeSpecializer::decide(const Interval* box) {
   for (int i = 0; i < tape_->dimension(); ++i) registers_[i] = box[i];
   bool pruned = false;
   const auto& code = tape_->code();
+  Bounds& w = *bounds_;
+  w.producer_of_register.assign(tape_->register_count(), kNoProducer);
+  w.producer_a.resize(code.size());
+  w.producer_b.resize(code.size());
+  w.readers.assign(code.size(), 0);
+  w.out.resize(code.size());
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
     Fate fate = Fate::Keep;
@@ -168,10 +189,88 @@ bool TapeSpecializer::decide(const Interval* box) {
       out = apply<Interval>(ins, a, b);
       if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
+    const int k = ins.op == Op::Patch ? 0 : arity(ins.op);
+    w.producer_a[i] = k >= 1 ? w.producer_of_register[ins.a] : kNoProducer;
+    w.producer_b[i] = k >= 2 ? w.producer_of_register[ins.b] : kNoProducer;
+    if (w.producer_a[i] != kNoProducer) ++w.readers[w.producer_a[i]];
+    if (w.producer_b[i] != kNoProducer) ++w.readers[w.producer_b[i]];
     fate_[i] = fate;
     constant_[i] = out.lo;  // exact for the constant fates: step gives 0 or 1, classify one value
     pruned |= fate != Fate::Keep;
     registers_[ins.out] = out;
+    w.out[i] = out;
+    w.producer_of_register[ins.out] = i;
+  }
+  for (std::uint32_t r : tape_->results())
+    if (w.producer_of_register[r] != kNoProducer) w.readers[w.producer_of_register[r]] += 2;  // read forever
+  pruned |= prune_by_bounds();
+  return pruned;
+}
+
+// Top-down pruning of min/max trees. decide() prunes min(a, b) when one
+// argument's enclosure lies below the other's; but in a tree of mins an
+// argument is also irrelevant when it lies above any upper bound known
+// higher up: in min(min(a, b), c), a is dropped when a.lo > min(b.hi,
+// c.hi). Going backward, each instruction read by exactly one min gets
+// the bound `up` (values above it cannot be chosen by the mins above, so
+// they never reach a root), each read by one max a bound `low` below, and
+// negation swaps them. A min whose argument's enclosure lies wholly above
+// min(other argument's hi, up) takes the other argument. Only the choices
+// of mins change, so results are still bit-identical. Enclosures of
+// instructions read more than once (or roots) carry no bound.
+bool TapeSpecializer::prune_by_bounds() {
+  const auto& code = tape_->code();
+  Bounds& w = *bounds_;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  w.up.assign(code.size(), kInf);
+  w.low.assign(code.size(), -kInf);
+  auto enclosure = [&](std::size_t producer, std::uint32_t reg) -> const Interval& {
+    return producer == kNoProducer ? registers_[reg] : w.out[producer];  // variables and constants keep theirs
+  };
+  auto pass = [&](std::size_t producer, double up, double low) {
+    if (producer == kNoProducer || w.readers[producer] != 1) return;
+    w.up[producer] = up;
+    w.low[producer] = low;
+  };
+  bool pruned = false;
+  for (std::size_t i = code.size(); i-- > 0;) {
+    const Instruction& ins = code[i];
+    if (fate_[i] == Fate::Constant || ins.op == Op::Patch) continue;
+    const double up = w.up[i], low = w.low[i];
+    const std::size_t pa = w.producer_a[i], pb = w.producer_b[i];
+    if (ins.op == Op::Neg) {
+      pass(pa, -low, -up);
+      continue;
+    }
+    const bool min = is_min(ins), max = is_max(ins);
+    if (!min && !max) continue;
+    const Interval& a = enclosure(pa, ins.a);
+    const Interval& b = enclosure(pb, ins.b);
+    if (fate_[i] == Fate::Keep) {
+      // Strict comparisons: NaN bounds never prune.
+      if (min && a.lo > std::min(b.hi, up))
+        fate_[i] = Fate::SecondArgument;
+      else if (min && b.lo > std::min(a.hi, up))
+        fate_[i] = Fate::FirstArgument;
+      else if (max && a.hi < std::max(b.lo, low))
+        fate_[i] = Fate::SecondArgument;
+      else if (max && b.hi < std::max(a.lo, low))
+        fate_[i] = Fate::FirstArgument;
+      pruned |= fate_[i] != Fate::Keep;
+    }
+    const bool keep = fate_[i] == Fate::Keep;
+    if (fate_[i] != Fate::SecondArgument) {
+      if (min)
+        pass(pa, keep ? std::min(b.hi, up) : up, -kInf);
+      else
+        pass(pa, kInf, keep ? std::max(b.lo, low) : low);
+    }
+    if (fate_[i] != Fate::FirstArgument) {
+      if (min)
+        pass(pb, keep ? std::min(a.hi, up) : up, -kInf);
+      else
+        pass(pb, kInf, keep ? std::max(a.lo, low) : low);
+    }
   }
   return pruned;
 }
@@ -222,38 +321,19 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
     if (analytic_[i] && !read_by_analytic[i] && size[i] >= settings.min_subtree) candidates.push_back(i);
   if (candidates.empty()) return false;
 
-  // The instructions the candidates need, then their values at the samples.
-  std::vector<char> needed(n, 0);
-  for (std::size_t c : candidates) needed[c] = 1;
-  for (std::size_t i = n; i-- > 0;) {
-    if (!needed[i]) continue;
-    if (arg_a[i] != kNone) needed[arg_a[i]] = 1;
-    if (arg_b[i] != kNone) needed[arg_b[i]] = 1;
-  }
-  std::vector<std::size_t> slot(n, kNone);
-  for (std::size_t k = 0; k < candidates.size(); ++k) slot[candidates[k]] = k;
+  // The candidates' values at the samples: the program that computes them
+  // (what they read, with this box's fates), run at all samples in one batch.
+  const Tape sampler = rebuild(&candidates);
   const int degree = settings.sampling_degree;
   std::size_t samples = 1;
   for (int a = 0; a < dimension; ++a) samples *= static_cast<std::size_t>(degree + 1);
+  std::vector<std::array<double, 3>> points(samples);
+  for (std::size_t s = 0; s < samples; ++s) points[s] = ChebyshevPatch::sample_point(box, dimension, degree, s);
+  BatchEvaluator<double> batch(sampler, samples);
+  batch.evaluate(points.data(), samples);
   std::vector<std::vector<double>> values(candidates.size(), std::vector<double>(samples));
-  std::vector<double> regs(tape_->register_count());
-  for (const auto& [r, c] : tape_->constants()) regs[r] = c;
-  for (std::size_t s = 0; s < samples; ++s) {
-    const auto p = ChebyshevPatch::sample_point(box, dimension, degree, s);
-    for (int a = 0; a < dimension; ++a) regs[static_cast<std::size_t>(a)] = p[static_cast<std::size_t>(a)];
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!needed[i]) continue;
-      const Instruction& ins = code[i];
-      switch (fate_[i]) {
-        case Fate::Keep: regs[ins.out] = evaluate_instruction<double>(ins, regs.data()); break;
-        case Fate::FirstArgument: regs[ins.out] = regs[ins.a]; break;
-        case Fate::SecondArgument: regs[ins.out] = regs[ins.b]; break;
-        case Fate::Constant: regs[ins.out] = constant_[i]; break;
-        case Fate::Patch: break;  // not yet decided in this pass
-      }
-      if (slot[i] != kNone) values[slot[i]][s] = regs[ins.out];
-    }
-  }
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    for (std::size_t s = 0; s < samples; ++s) values[k][s] = batch.result(s, k);
 
   bool made = false;
   patch_.resize(n);
@@ -267,7 +347,7 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   return made;
 }
 
-Tape TapeSpecializer::rebuild() {
+Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
   const auto& code = tape_->code();
   const int dimension = tape_->dimension();
   const std::size_t n = code.size();
@@ -284,6 +364,7 @@ Tape TapeSpecializer::rebuild() {
   }
   w.arg_a.resize(n);
   w.arg_b.resize(n);
+  w.output.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
     w.arg_a[i] = w.source_of_register[ins.a];
@@ -300,9 +381,14 @@ Tape TapeSpecializer::rebuild() {
         break;
     }
     w.source_of_register[ins.out] = result;
+    w.output[i] = result;
   }
   w.roots.clear();
-  for (std::uint32_t r : tape_->results()) w.roots.push_back(w.source_of_register[r]);
+  if (outputs) {
+    for (std::size_t i : *outputs) w.roots.push_back(w.output[i]);
+  } else {
+    for (std::uint32_t r : tape_->results()) w.roots.push_back(w.source_of_register[r]);
+  }
 
   // Backward: live instructions (kept, and read by a live one or a root),
   // and the last reader of each: the first one met going backward. Roots

@@ -61,6 +61,69 @@ TEST(TapeSpecialization, SameNumbersInsideTheBoxAndShorterTapes) {
   EXPECT_LT(longest * 10, tape.code().size()) << "longest specialized tape " << longest;
 }
 
+// min(min(a, b), c) over a box where a overlaps b and b overlaps c, so
+// neither min is pruned by its own arguments, but a lies above c: the
+// bound from above drops a.
+TEST(TapeSpecialization, BoundsFromAboveDropDeepArguments) {
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr a = square(x) + square(y) + 2.0;  // in [2, 2.02] over the box
+  const Expr b = 1.25 + 12.0 * x;              // in [0.05, 2.45]
+  const Expr c = 1.2 + x;                      // in [1.1, 1.3]
+  const Tape tape(min(min(a, b), c), 2);
+  TapeSpecializer specializer(tape);
+  const std::array<Interval, 3> box{Interval(-0.1, 0.1), Interval(-0.1, 0.1), Interval(0.0)};
+  const std::optional<Tape> part = specializer.specialize(box.data());
+  ASSERT_TRUE(part.has_value());
+  for (const Instruction& ins : part->code()) EXPECT_NE(ins.op, Op::Square) << "a is still computed";
+  auto rng = test::make_rng(5);
+  for (int k = 0; k < 100; ++k) {
+    const test::Point p{test::uniform(rng, -0.1, 0.1), test::uniform(rng, -0.1, 0.1), 0};
+    expect_same_at<2>(tape, *part, p);
+  }
+}
+
+// Random DAGs of min, max, negation, sums and min/max R-function nodes over
+// disks and lines, with shared subterms: every specialized tape gives the
+// whole tape's value and derivatives, bit for bit, inside its box.
+TEST(TapeSpecialization, MinMaxDagsKeepTheirBits) {
+  auto rng = test::make_rng(11);
+  std::size_t shortened = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<Expr> terms;
+    for (int i = 0; i < 12; ++i) {
+      const Vec3 c{test::uniform(rng, -4, 4), test::uniform(rng, -4, 4), 0};
+      terms.push_back(i % 3 ? ball(c, test::uniform(rng, 0.2, 2.0), 2)
+                            : Expr::x() * test::uniform(rng, -1, 1) + Expr::y() * test::uniform(rng, -1, 1));
+    }
+    for (int i = 0; i < 60; ++i) {
+      const Expr& u = terms[std::uniform_int_distribution<std::size_t>(0, terms.size() - 1)(rng)];
+      const Expr& v = terms[std::uniform_int_distribution<std::size_t>(0, terms.size() - 1)(rng)];
+      switch (std::uniform_int_distribution<int>(0, 5)(rng)) {
+        case 0: terms.push_back(min(u, v)); break;
+        case 1: terms.push_back(max(u, v)); break;
+        case 2: terms.push_back(-u); break;
+        case 3: terms.push_back(r_and(u, v, RSystem::min_max())); break;
+        case 4: terms.push_back(r_or(u, v, RSystem::min_max())); break;
+        default: terms.push_back(u + 0.5 * v); break;
+      }
+    }
+    const Tape tape(terms.back(), 2);
+    TapeSpecializer specializer(tape);
+    for (int b = 0; b < 10; ++b) {
+      const double x = test::uniform(rng, -5, 5), y = test::uniform(rng, -5, 5), w = test::uniform(rng, 0.01, 2);
+      const std::array<Interval, 3> box{Interval(x, x + w), Interval(y, y + w), Interval(0.0)};
+      const std::optional<Tape> part = specializer.specialize(box.data());
+      if (!part) continue;
+      shortened += part->code().size() < tape.code().size();
+      for (int k = 0; k < 10; ++k) {
+        const test::Point p{x + test::uniform(rng, 0, w), y + test::uniform(rng, 0, w), 0};
+        expect_same_at<2>(tape, *part, p);
+      }
+    }
+  }
+  EXPECT_GT(shortened, 100u);
+}
+
 TEST(TapeSpecialization, StepsAndClassifiersFoldToConstants) {
   const auto ball = std::make_shared<const test::BallClassifier>();  // |p| < 1.2
   const Expr e = Expr::classify(ball) * (step(Expr::x() - 2.0) + Expr::y());

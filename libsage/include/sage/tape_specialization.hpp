@@ -5,7 +5,11 @@
 // Over a box, interval arithmetic often proves that one argument of a min
 // or max (or of a min/max R-function node) is below the other everywhere;
 // the node is then that argument, for the value and for every derivative
-// at every point of the box. Likewise a point classifier that is constant
+// at every point of the box. In a tree of mins an argument is also dropped
+// when it lies above an upper bound passed down from higher up (in
+// min(min(a, b), c), a when a.lo > min(b.hi, c.hi)): mins above could never
+// choose it. Likewise for max with lower bounds, and through negation.
+// Likewise a point classifier that is constant
 // over the box, and a step whose argument keeps its sign, are constants.
 // The specialized tape drops those nodes and everything only they used, so
 // it computes exactly the same numbers at the box's points, bit for bit,
@@ -93,14 +97,19 @@ class TapeSpecializer {
 
   // The interval pass: fates and enclosures; true if anything was pruned.
   bool decide(const Interval* box);
+  // Prunes min/max arguments that bounds from above rule out; true if any.
+  bool prune_by_bounds();
   // Which instructions are analytic across the box enlarged (from values
   // and gradients at its centre).
   void mark_analytic(const Interval* box, double enlargement);
   // Fits patches to the largest analytic subtrees; true if any was made.
   bool fit_patches(const Interval* box, const Approximation& settings);
-  Tape rebuild();
+  // The program of the kept instructions, with registers reallocated; its
+  // roots are the tape's, or the values of instructions `outputs`.
+  Tape rebuild(const std::vector<std::size_t>* outputs = nullptr);
 
   struct Scratch;  // rebuild()'s work arrays, kept between calls
+  struct Bounds;   // decide()'s records for prune_by_bounds()
 
   const Tape* tape_;
   std::vector<Interval> registers_;
@@ -111,6 +120,7 @@ class TapeSpecializer {
   std::vector<Tuple<3, 1>> jets_;
   std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
   std::unique_ptr<Scratch> scratch_;
+  std::unique_ptr<Bounds> bounds_;
 };
 
 }  // namespace sage

@@ -77,8 +77,9 @@ TrialStructure dirichlet_trial(const BoundaryStructure& structure);
 Expr localized_weight(const Expr& w, double band, int power);
 
 /// The structure route. Requires structure.has_weak_parts. band > 0 cuts W
-/// off (localized_weight) with the given power (>= 3: the solver takes
-/// second derivatives of W); band <= 0 keeps the global W.
+/// off (localized_weight) with the given power (>= 2, so that the cut W is
+/// C^1; 3 or more makes it C^2, as the solver's second derivatives of u
+/// assume); band <= 0 keeps the global W.
 TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure, double band = 0.0,
                            int power = 3);
 
