@@ -161,11 +161,18 @@ bool TapeSpecializer::decide(const Interval* box) {
   bool pruned = false;
   const auto& code = tape_->code();
   Bounds& w = *bounds_;
-  w.producer_of_register.assign(tape_->register_count(), kNoProducer);
+  // Every register is written before it is read, except variables and
+  // constants; per-instruction records are set as the pass reaches them.
+  w.producer_of_register.resize(tape_->register_count());
+  for (int v = 0; v < tape_->dimension(); ++v) w.producer_of_register[static_cast<std::size_t>(v)] = kNoProducer;
+  for (const auto& [r, c] : tape_->constants()) w.producer_of_register[r] = kNoProducer;
   w.producer_a.resize(code.size());
   w.producer_b.resize(code.size());
-  w.readers.assign(code.size(), 0);
+  w.readers.resize(code.size());
   w.out.resize(code.size());
+  w.up.resize(code.size());
+  w.low.resize(code.size());
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
     Fate fate = Fate::Keep;
@@ -190,6 +197,9 @@ bool TapeSpecializer::decide(const Interval* box) {
       if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
     const int k = ins.op == Op::Patch ? 0 : arity(ins.op);
+    w.readers[i] = 0;  // its readers come later
+    w.up[i] = kInf;
+    w.low[i] = -kInf;
     w.producer_a[i] = k >= 1 ? w.producer_of_register[ins.a] : kNoProducer;
     w.producer_b[i] = k >= 2 ? w.producer_of_register[ins.b] : kNoProducer;
     if (w.producer_a[i] != kNoProducer) ++w.readers[w.producer_a[i]];
@@ -222,8 +232,6 @@ bool TapeSpecializer::prune_by_bounds() {
   const auto& code = tape_->code();
   Bounds& w = *bounds_;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  w.up.assign(code.size(), kInf);
-  w.low.assign(code.size(), -kInf);
   auto enclosure = [&](std::size_t producer, std::uint32_t reg) -> const Interval& {
     return producer == kNoProducer ? registers_[reg] : w.out[producer];  // variables and constants keep theirs
   };
@@ -365,6 +373,7 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
   w.arg_a.resize(n);
   w.arg_b.resize(n);
   w.output.resize(n);
+  w.live.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
     w.arg_a[i] = w.source_of_register[ins.a];
@@ -382,6 +391,7 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
     }
     w.source_of_register[ins.out] = result;
     w.output[i] = result;
+    w.live[i] = 0;
   }
   w.roots.clear();
   if (outputs) {
@@ -394,7 +404,6 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
   // and the last reader of each: the first one met going backward. Roots
   // are read forever.
   constexpr std::size_t kForever = static_cast<std::size_t>(-1);
-  w.live.assign(n, 0);
   w.constant_live.assign(w.constants.size(), 0);
   w.last_use.resize(n);
   std::size_t live_count = 0;

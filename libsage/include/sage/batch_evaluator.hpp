@@ -27,8 +27,15 @@ template <class T>
 class BatchEvaluator {
  public:
   /// Borrows `tape` (which must outlive it); at most `width` points per batch.
-  BatchEvaluator(const Tape& tape, std::size_t width)
-      : tape_(&tape), width_(width), regs_(tape.register_count() * width) {
+  BatchEvaluator(const Tape& tape, std::size_t width) { rebind(tape, width); }
+
+  /// Runs `tape` from now on, keeping the register storage (grid sampling
+  /// runs thousands of small tapes per thread; clearing megabytes of
+  /// registers for each cost more than running them).
+  void rebind(const Tape& tape, std::size_t width) {
+    tape_ = &tape;
+    width_ = width;
+    if (regs_.size() < tape.register_count() * width) regs_.resize(tape.register_count() * width);
     for (const auto& [r, c] : tape.constants())
       for (std::size_t l = 0; l < width; ++l) regs_[r * width + l] = T(c);
   }

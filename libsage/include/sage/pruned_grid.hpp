@@ -124,8 +124,15 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
 #pragma omp taskwait
     return;
   }
-  // The block's points, in batches run by one BatchEvaluator.
-  BatchEvaluator<T> batch(tape, std::min(block.size(), kBatchPoints));
+  // The block's points, in batches run by this thread's BatchEvaluator
+  // (leaves spawn no tasks, so nothing else uses it meanwhile).
+  thread_local std::unique_ptr<BatchEvaluator<T>> reused;
+  const std::size_t width = std::min(block.size(), kBatchPoints);
+  if (reused)
+    reused->rebind(tape, width);
+  else
+    reused = std::make_unique<BatchEvaluator<T>>(tape, width);
+  BatchEvaluator<T>& batch = *reused;
   std::array<std::size_t, kBatchPoints> index{};
   std::array<std::array<double, 3>, kBatchPoints> point{};
   std::size_t count = 0;
