@@ -301,28 +301,25 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   const std::size_t n = code.size();
   const int dimension = tape_->dimension();
 
-  // The producer of every argument (or none: a variable or constant), the
-  // size of each subtree as the specialized program would run it, and
-  // whether an analytic instruction reads it (then it is not the largest).
-  constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-  std::vector<std::size_t> producer(tape_->register_count(), kNone);
-  std::vector<std::size_t> arg_a(n, kNone), arg_b(n, kNone), size(n, 0);
+  // The size of each subtree as the specialized program would run it, and
+  // whether an analytic instruction reads it (then it is not the largest),
+  // from the producers of the arguments that decide() recorded.
+  const Bounds& w = *bounds_;
+  std::vector<std::size_t> size(n, 0);
   std::vector<char> read_by_analytic(n, 0);
-  auto size_of = [&](std::size_t j) { return j == kNone ? std::size_t{0} : size[j]; };
+  auto size_of = [&](std::size_t j) { return j == kNoProducer ? std::size_t{0} : size[j]; };
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
-    const int k = ins.op == Op::Patch ? 0 : arity(ins.op);
     // Only the arguments the specialized program reads.
-    if (k >= 1 && fate_[i] != Fate::SecondArgument && fate_[i] != Fate::Constant) arg_a[i] = producer[ins.a];
-    if (k >= 2 && fate_[i] != Fate::FirstArgument && fate_[i] != Fate::Constant && ins.b != ins.a)
-      arg_b[i] = producer[ins.b];
-    const bool runs = fate_[i] == Fate::Keep;
-    size[i] = (runs ? 1 : 0) + size_of(arg_a[i]) + size_of(arg_b[i]);
+    const std::size_t a =
+        fate_[i] != Fate::SecondArgument && fate_[i] != Fate::Constant ? w.producer_a[i] : kNoProducer;
+    const std::size_t b =
+        fate_[i] != Fate::FirstArgument && fate_[i] != Fate::Constant && ins.b != ins.a ? w.producer_b[i] : kNoProducer;
+    size[i] = (fate_[i] == Fate::Keep ? 1 : 0) + size_of(a) + size_of(b);
     if (analytic_[i]) {
-      if (arg_a[i] != kNone) read_by_analytic[arg_a[i]] = 1;
-      if (arg_b[i] != kNone) read_by_analytic[arg_b[i]] = 1;
+      if (a != kNoProducer) read_by_analytic[a] = 1;
+      if (b != kNoProducer) read_by_analytic[b] = 1;
     }
-    producer[ins.out] = i;
   }
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < n; ++i)
