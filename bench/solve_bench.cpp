@@ -92,27 +92,6 @@ PoissonProblem unit_problem(int dimension, const std::function<Expr(const std::a
   return p;
 }
 
-/// As robin_structure_test: Dirichlet u = 0 on the square, Robin on the hole.
-PoissonProblem square_with_robin_hole() {
-  const RSystem r0 = RSystem::r0();
-  const Expr x = Expr::x(), y = Expr::y();
-  const Expr hole = ball({0, 0, 0}, 0.4, 2);
-  PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
-  const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
-  problem.exact = exact;
-  problem.source = manufactured_source(exact, 1.0, 2);
-  const Expr outward_flux = -(x * derivative(exact, 0) + y * derivative(exact, 1)) / 0.4;
-  const BoundaryPart outer{"outer", (1.0 - square(x)) * (1.0 - square(y)) * 0.5, BoundaryKind::Dirichlet, 0.0};
-  const BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, 1.0, outward_flux + exact};
-  problem.parts = {outer, robin};
-  problem.rest = robin;
-  return problem;
-}
-
 template <int D>
 void robin_rates(const char* title, const PoissonProblem& problem, int degree, RobinRoute route, double band,
                  const std::vector<double>& widths) {
@@ -166,7 +145,7 @@ int main(int argc, char** argv) {
     table<3>("Unit ball, same", ball3, 3, {18, 19}, 1e-12);
   }
   if (which == "robin") {
-    const PoissonProblem problem = square_with_robin_hole();
+    const PoissonProblem problem = square_with_robin_hole(1.0, 1.0);
     const double band = SolverOptions{}.robin_band;
     const std::vector<double> widths{0.2, 0.1, 0.05, 0.025, 0.0125};
     for (int degree : {2, 3}) {

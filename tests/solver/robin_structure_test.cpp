@@ -26,32 +26,6 @@ namespace {
 
 using namespace manufactured;
 
-/// The square (-1,1)^2 minus the disk r = 0.4: Dirichlet u = 0 on the
-/// square (selected by the smooth product weight, as in convergence_test),
-/// Robin k du/dn + beta u = h on the hole, with the manufactured solution's
-/// data.
-PoissonProblem square_with_robin_hole(const Expr& conductivity, const Expr& beta) {
-  const RSystem r0 = RSystem::r0();
-  const Expr x = Expr::x(), y = Expr::y();
-  const Expr hole = ball({0, 0, 0}, 0.4, 2);
-  PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
-  problem.conductivity = conductivity;
-  const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
-  problem.exact = exact;
-  problem.source = manufactured_source(exact, conductivity, 2);
-  // n = -(x, y) / r on the hole (outward from the domain).
-  const Expr outward_flux = -conductivity * (x * derivative(exact, 0) + y * derivative(exact, 1)) / 0.4;
-  const BoundaryPart outer{"outer", (1.0 - square(x)) * (1.0 - square(y)) * 0.5, BoundaryKind::Dirichlet, 0.0};
-  const BoundaryPart robin{"hole", hole, BoundaryKind::Robin, 0.0, beta, outward_flux + beta * exact};
-  problem.parts = {outer, robin};
-  problem.rest = robin;
-  return problem;
-}
-
 double value_at(const Expr& e, const double* x) {
   Tape tape(e, 2);
   Evaluator<double> eval(tape);
