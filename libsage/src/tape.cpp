@@ -101,6 +101,28 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
     code_.push_back(ins);
   }
   for (const Expr& r : roots) results_.push_back(reg.at(r.id()));
+  link();
+}
+
+void Tape::link() {
+  // The producer of each register as the code runs: registers are reused,
+  // so an argument's producer is the last instruction to write it before.
+  std::vector<std::uint32_t> producer_of_register(registers_, kInput);
+  producers_.resize(code_.size());
+  readers_.assign(code_.size(), 0);
+  for (std::size_t i = 0; i < code_.size(); ++i) {
+    const Instruction& ins = code_[i];
+    const int k = arity(ins.op);
+    producers_[i] = {k >= 1 ? producer_of_register[ins.a] : kInput, k >= 2 ? producer_of_register[ins.b] : kInput};
+    for (int j = 0; j < k; ++j)
+      if (producers_[i][j] != kInput) ++readers_[producers_[i][j]];
+    producer_of_register[ins.out] = static_cast<std::uint32_t>(i);
+  }
+  result_producers_.clear();
+  for (std::uint32_t r : results_) {
+    result_producers_.push_back(producer_of_register[r]);
+    if (producer_of_register[r] != kInput) readers_[producer_of_register[r]] += 2;  // read forever
+  }
 }
 
 }  // namespace sage

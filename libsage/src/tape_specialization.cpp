@@ -28,22 +28,19 @@ bool is_instruction(Source s) { return s >= 0; }
 
 }  // namespace
 
-constexpr std::size_t kNoProducer = static_cast<std::size_t>(-1);  // a variable or constant
+constexpr std::uint32_t kNoProducer = Tape::kInput;  // a variable or constant
 
 // decide()'s per-instruction records for prune_by_bounds().
 struct TapeSpecializer::Bounds {
-  std::vector<std::size_t> producer_of_register, producer_a, producer_b;
-  std::vector<std::uint32_t> readers;  // how many instructions read each (roots count as more)
-  std::vector<Interval> out;           // each instruction's enclosure
+  std::vector<Interval> out;  // each instruction's enclosure
   std::vector<double> up, low;
 };
 
 struct TapeSpecializer::Scratch {
-  std::vector<Source> source_of_register;
+  std::vector<char> needed, constant_live;
+  std::vector<std::uint32_t> root_producers, constant_of_register, reads;
   std::vector<double> constants;
-  std::vector<Source> arg_a, arg_b, output, roots;
-  std::vector<char> live, constant_live;
-  std::vector<std::size_t> last_use;
+  std::vector<Source> source, arg_a, arg_b, roots;
   std::vector<std::uint32_t> constant_register, reg, free_registers;
 };
 
@@ -161,14 +158,7 @@ bool TapeSpecializer::decide(const Interval* box) {
   bool pruned = false;
   const auto& code = tape_->code();
   Bounds& w = *bounds_;
-  // Every register is written before it is read, except variables and
-  // constants; per-instruction records are set as the pass reaches them.
-  w.producer_of_register.resize(tape_->register_count());
-  for (int v = 0; v < tape_->dimension(); ++v) w.producer_of_register[static_cast<std::size_t>(v)] = kNoProducer;
-  for (const auto& [r, c] : tape_->constants()) w.producer_of_register[r] = kNoProducer;
-  w.producer_a.resize(code.size());
-  w.producer_b.resize(code.size());
-  w.readers.resize(code.size());
+  // Per-instruction records are set as the pass reaches them.
   w.out.resize(code.size());
   w.up.resize(code.size());
   w.low.resize(code.size());
@@ -196,23 +186,14 @@ bool TapeSpecializer::decide(const Interval* box) {
       out = apply<Interval>(ins, a, b);
       if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
-    const int k = ins.op == Op::Patch ? 0 : arity(ins.op);
-    w.readers[i] = 0;  // its readers come later
     w.up[i] = kInf;
     w.low[i] = -kInf;
-    w.producer_a[i] = k >= 1 ? w.producer_of_register[ins.a] : kNoProducer;
-    w.producer_b[i] = k >= 2 ? w.producer_of_register[ins.b] : kNoProducer;
-    if (w.producer_a[i] != kNoProducer) ++w.readers[w.producer_a[i]];
-    if (w.producer_b[i] != kNoProducer) ++w.readers[w.producer_b[i]];
     fate_[i] = fate;
     constant_[i] = out.lo;  // exact for the constant fates: step gives 0 or 1, classify one value
     pruned |= fate != Fate::Keep;
     registers_[ins.out] = out;
     w.out[i] = out;
-    w.producer_of_register[ins.out] = i;
   }
-  for (std::uint32_t r : tape_->results())
-    if (w.producer_of_register[r] != kNoProducer) w.readers[w.producer_of_register[r]] += 2;  // read forever
   pruned |= prune_by_bounds();
   return pruned;
 }
@@ -230,13 +211,15 @@ bool TapeSpecializer::decide(const Interval* box) {
 // instructions read more than once (or roots) carry no bound.
 bool TapeSpecializer::prune_by_bounds() {
   const auto& code = tape_->code();
+  const auto& producers = tape_->producers();
+  const auto& readers = tape_->readers();
   Bounds& w = *bounds_;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  auto enclosure = [&](std::size_t producer, std::uint32_t reg) -> const Interval& {
+  auto enclosure = [&](std::uint32_t producer, std::uint32_t reg) -> const Interval& {
     return producer == kNoProducer ? registers_[reg] : w.out[producer];  // variables and constants keep theirs
   };
-  auto pass = [&](std::size_t producer, double up, double low) {
-    if (producer == kNoProducer || w.readers[producer] != 1) return;
+  auto pass = [&](std::uint32_t producer, double up, double low) {
+    if (producer == kNoProducer || readers[producer] != 1) return;
     w.up[producer] = up;
     w.low[producer] = low;
   };
@@ -245,7 +228,7 @@ bool TapeSpecializer::prune_by_bounds() {
     const Instruction& ins = code[i];
     if (fate_[i] == Fate::Constant || ins.op == Op::Patch) continue;
     const double up = w.up[i], low = w.low[i];
-    const std::size_t pa = w.producer_a[i], pb = w.producer_b[i];
+    const auto [pa, pb] = producers[i];
     if (ins.op == Op::Neg) {
       pass(pa, -low, -up);
       continue;
@@ -303,18 +286,18 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
 
   // The size of each subtree as the specialized program would run it, and
   // whether an analytic instruction reads it (then it is not the largest),
-  // from the producers of the arguments that decide() recorded.
-  const Bounds& w = *bounds_;
+  // from the producers of the arguments.
+  const auto& producers = tape_->producers();
   std::vector<std::size_t> size(n, 0);
   std::vector<char> read_by_analytic(n, 0);
-  auto size_of = [&](std::size_t j) { return j == kNoProducer ? std::size_t{0} : size[j]; };
+  auto size_of = [&](std::uint32_t j) { return j == kNoProducer ? std::size_t{0} : size[j]; };
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
     // Only the arguments the specialized program reads.
-    const std::size_t a =
-        fate_[i] != Fate::SecondArgument && fate_[i] != Fate::Constant ? w.producer_a[i] : kNoProducer;
-    const std::size_t b =
-        fate_[i] != Fate::FirstArgument && fate_[i] != Fate::Constant && ins.b != ins.a ? w.producer_b[i] : kNoProducer;
+    const std::uint32_t a =
+        fate_[i] != Fate::SecondArgument && fate_[i] != Fate::Constant ? producers[i][0] : kNoProducer;
+    const std::uint32_t b =
+        fate_[i] != Fate::FirstArgument && fate_[i] != Fate::Constant && ins.b != ins.a ? producers[i][1] : kNoProducer;
     size[i] = (fate_[i] == Fate::Keep ? 1 : 0) + size_of(a) + size_of(b);
     if (analytic_[i]) {
       if (a != kNoProducer) read_by_analytic[a] = 1;
@@ -354,75 +337,97 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
 
 Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
   const auto& code = tape_->code();
+  const auto& producers = tape_->producers();
   const int dimension = tape_->dimension();
   const std::size_t n = code.size();
   Scratch& w = *scratch_;
-
-  // Forward: the source of every register as the code runs, with dropped
-  // instructions forwarding their chosen argument.
-  w.source_of_register.resize(tape_->register_count());
-  w.constants.clear();
-  for (int v = 0; v < dimension; ++v) w.source_of_register[v] = kVariable - v;
-  for (const auto& [r, c] : tape_->constants()) {
-    w.source_of_register[r] = kConstant - static_cast<Source>(w.constants.size());
-    w.constants.push_back(c);
-  }
-  w.arg_a.resize(n);
-  w.arg_b.resize(n);
-  w.output.resize(n);
-  w.live.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Instruction& ins = code[i];
-    w.arg_a[i] = w.source_of_register[ins.a];
-    w.arg_b[i] = w.source_of_register[ins.b];
-    Source result = static_cast<Source>(i);  // Keep, Patch
-    switch (fate_[i]) {
-      case Fate::Keep:
-      case Fate::Patch: break;
-      case Fate::FirstArgument: result = w.arg_a[i]; break;
-      case Fate::SecondArgument: result = w.arg_b[i]; break;
-      case Fate::Constant:
-        result = kConstant - static_cast<Source>(w.constants.size());
-        w.constants.push_back(constant_[i]);
-        break;
-    }
-    w.source_of_register[ins.out] = result;
-    w.output[i] = result;
-    w.live[i] = 0;
-  }
-  w.roots.clear();
-  if (outputs) {
-    for (std::size_t i : *outputs) w.roots.push_back(w.output[i]);
-  } else {
-    for (std::uint32_t r : tape_->results()) w.roots.push_back(w.source_of_register[r]);
-  }
-
-  // Backward: live instructions (kept, and read by a live one or a root),
-  // and the last reader of each: the first one met going backward. Roots
-  // are read forever.
-  constexpr std::size_t kForever = static_cast<std::size_t>(-1);
-  w.constant_live.assign(w.constants.size(), 0);
-  w.last_use.resize(n);
-  std::size_t live_count = 0;
-  auto mark = [&](Source s, std::size_t reader) {
-    if (is_instruction(s)) {
-      const auto j = static_cast<std::size_t>(s);
-      if (w.live[j]) return;
-      w.live[j] = 1;
-      w.last_use[j] = reader;
-      ++live_count;
-    } else if (s <= kConstant) {
-      w.constant_live[static_cast<std::size_t>(kConstant - s)] = 1;
-    }
-  };
-  for (Source r : w.roots) mark(r, kForever);
   // A patch reads no registers: its subtree dies unless used elsewhere.
   auto arguments = [&](std::size_t i) { return fate_[i] == Fate::Patch ? 0 : arity(code[i].op); };
+
+  // Backward, along the producer links: the instructions whose values the
+  // roots need. A dropped instruction forwards the need to the argument it
+  // chose, so pruned subtrees are never visited again.
+  w.needed.assign(n, 0);
+  auto need = [&](std::uint32_t producer) {
+    if (producer != kNoProducer) w.needed[producer] = 1;
+  };
+  std::vector<std::uint32_t>& root_producers = w.root_producers;
+  root_producers.clear();
+  if (outputs) {
+    for (std::size_t i : *outputs) root_producers.push_back(static_cast<std::uint32_t>(i));
+  } else {
+    root_producers = tape_->result_producers();
+  }
+  for (std::uint32_t p : root_producers) need(p);
   for (std::size_t i = n; i-- > 0;) {
-    if (!w.live[i]) continue;
-    const int k = arguments(i);
-    if (k >= 1) mark(w.arg_a[i], i);
-    if (k >= 2) mark(w.arg_b[i], i);
+    if (!w.needed[i]) continue;
+    switch (fate_[i]) {
+      case Fate::Keep:
+        if (arguments(i) >= 1) need(producers[i][0]);
+        if (arguments(i) >= 2) need(producers[i][1]);
+        break;
+      case Fate::FirstArgument: need(producers[i][0]); break;
+      case Fate::SecondArgument: need(producers[i][1]); break;
+      case Fate::Constant:
+      case Fate::Patch: break;
+    }
+  }
+
+  // Forward over the needed ones: where each value comes from (dropped
+  // instructions take their chosen argument's source), and how often the
+  // kept instructions and roots read each value.
+  w.constants.clear();
+  w.constant_of_register.assign(tape_->register_count(), 0);
+  for (const auto& [r, c] : tape_->constants()) {
+    w.constant_of_register[r] = static_cast<std::uint32_t>(w.constants.size());
+    w.constants.push_back(c);
+  }
+  auto input = [&](std::uint32_t reg) -> Source {  // a variable's or a tape constant's register
+    return static_cast<int>(reg) < dimension ? kVariable - static_cast<Source>(reg)
+                                             : kConstant - static_cast<Source>(w.constant_of_register[reg]);
+  };
+  w.source.resize(n);
+  w.arg_a.resize(n);
+  w.arg_b.resize(n);
+  w.reads.assign(n, 0);
+  w.constant_live.assign(w.constants.size(), 0);
+  auto source_of = [&](std::uint32_t producer, std::uint32_t reg) {
+    return producer == kNoProducer ? input(reg) : w.source[producer];
+  };
+  auto read = [&](Source s, std::uint32_t count) {
+    if (is_instruction(s))
+      w.reads[static_cast<std::size_t>(s)] += count;
+    else if (s <= kConstant)
+      w.constant_live[static_cast<std::size_t>(kConstant - s)] = 1;
+  };
+  std::size_t live_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!w.needed[i]) continue;
+    const Instruction& ins = code[i];
+    switch (fate_[i]) {
+      case Fate::Keep:
+      case Fate::Patch: {
+        w.source[i] = static_cast<Source>(i);
+        ++live_count;
+        const int k = arguments(i);
+        if (k >= 1) read(w.arg_a[i] = source_of(producers[i][0], ins.a), 1);
+        if (k >= 2) read(w.arg_b[i] = source_of(producers[i][1], ins.b), 1);
+        break;
+      }
+      case Fate::FirstArgument: w.source[i] = source_of(producers[i][0], ins.a); break;
+      case Fate::SecondArgument: w.source[i] = source_of(producers[i][1], ins.b); break;
+      case Fate::Constant:
+        w.source[i] = kConstant - static_cast<Source>(w.constants.size());
+        w.constants.push_back(constant_[i]);
+        w.constant_live.push_back(0);
+        break;
+    }
+  }
+  w.roots.clear();
+  for (std::size_t k = 0; k < root_producers.size(); ++k) {
+    const Source s = root_producers[k] == kNoProducer ? input(tape_->results()[k]) : w.source[root_producers[k]];
+    w.roots.push_back(s);
+    read(s, 2);  // read forever: never freed
   }
 
   // Emit: variables in their fixed registers, live constants next, then the
@@ -443,10 +448,15 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
     if (s <= kConstant) return w.constant_register[static_cast<std::size_t>(kConstant - s)];
     return Tape::variable_register(static_cast<int>(kVariable - s));
   };
+  // Frees the register of an instruction's value at its last read.
+  auto release = [&](Source s) {
+    if (is_instruction(s) && --w.reads[static_cast<std::size_t>(s)] == 0)
+      w.free_registers.push_back(w.reg[static_cast<std::size_t>(s)]);
+  };
   w.free_registers.clear();
   t.code_.reserve(live_count);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!w.live[i]) continue;
+    if (!w.needed[i] || (fate_[i] != Fate::Keep && fate_[i] != Fate::Patch)) continue;
     Instruction ins = code[i];
     if (fate_[i] == Fate::Patch) {
       ins.op = Op::Patch;
@@ -456,15 +466,12 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
     } else if (ins.op == Op::Patch) {
       t.patches_.push_back(ins.patch->shared_from_this());
     }
-    const Source a = w.arg_a[i], b = w.arg_b[i];
     const int k = arguments(i);
-    if (k >= 1) ins.a = register_of(a);
-    if (k >= 2) ins.b = register_of(b);
-    // Free arguments read for the last time (once, if both are the same
-    // value); the output may reuse one, as in Tape's compiler.
-    if (k >= 1 && is_instruction(a) && w.last_use[static_cast<std::size_t>(a)] == i) w.free_registers.push_back(ins.a);
-    if (k >= 2 && b != a && is_instruction(b) && w.last_use[static_cast<std::size_t>(b)] == i)
-      w.free_registers.push_back(ins.b);
+    if (k >= 1) ins.a = register_of(w.arg_a[i]);
+    if (k >= 2) ins.b = register_of(w.arg_b[i]);
+    // The output may reuse an argument's register, as in Tape's compiler.
+    if (k >= 1) release(w.arg_a[i]);
+    if (k >= 2) release(w.arg_b[i]);
     if (!w.free_registers.empty()) {
       ins.out = w.free_registers.back();
       w.free_registers.pop_back();
@@ -475,6 +482,7 @@ Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {
     t.code_.push_back(ins);
   }
   for (Source r : w.roots) t.results_.push_back(register_of(r));
+  t.link();
   return t;
 }
 

@@ -12,6 +12,7 @@
 #include "test_support.hpp"
 
 #include <sage/derivative.hpp>
+#include <sage/evaluator.hpp>
 #include <sage/tape.hpp>
 
 #include <gtest/gtest.h>
@@ -177,6 +178,44 @@ TEST(Tape, MultipleRootsShareSubexpressions) {
   ec2.evaluate(std::array<double, 3>{1, 2, 0}.data());
   EXPECT_EQ(ec2.result(0), 3.5);
   EXPECT_EQ(ec2.result(1), 2.0);
+}
+
+TEST(Tape, ProducerLinksFollowRegisterReuse) {
+  // Replaying the code with each argument taken from its producer's
+  // result (or the variable) must give what the registers give.
+  const Expr x = Expr::x(), y = Expr::y();
+  Expr f = 0.5;
+  for (int i = 0; i < 12; ++i) f = min(f, sqrt(square(x - 0.1 * i) + square(y)) * (1.0 + 0.01 * i));
+  const Tape tape({f, x * y}, 2);
+  const auto& code = tape.code();
+  ASSERT_EQ(tape.producers().size(), code.size());
+  const std::array<double, 3> p{0.37, -0.21, 0.0};
+  Evaluator<double> ev(tape);
+  ev.evaluate(p.data());
+  std::vector<double> regs(tape.register_count()), by_link(code.size());
+  regs[0] = p[0];
+  regs[1] = p[1];
+  for (const auto& [r, c] : tape.constants()) regs[r] = c;
+  std::vector<std::uint32_t> readers(code.size(), 0);
+  for (std::size_t i = 0; i < code.size(); ++i) {
+    const Instruction& ins = code[i];
+    auto argument = [&](int k, std::uint32_t reg) {
+      const std::uint32_t producer = tape.producers()[i][k];
+      if (producer == Tape::kInput) return regs[reg];  // a variable or constant: never overwritten
+      ++readers[producer];
+      return by_link[producer];
+    };
+    const int k = arity(ins.op);
+    const double a = k >= 1 ? argument(0, ins.a) : 0.0, b = k >= 2 ? argument(1, ins.b) : 0.0;
+    by_link[i] = apply<double>(ins, a, b);
+  }
+  for (std::size_t r = 0; r < 2; ++r) {
+    const std::uint32_t producer = tape.result_producers()[r];
+    ASSERT_NE(producer, Tape::kInput);
+    EXPECT_EQ(by_link[producer], ev.result(r));
+    readers[producer] += 2;
+  }
+  EXPECT_EQ(readers, tape.readers());
 }
 
 TEST(Tape, DimensionCheck) {

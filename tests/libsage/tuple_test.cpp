@@ -167,6 +167,22 @@ TEST(Tuple, ElementaryFunctionsMatchUnivariateClosedForms) {
   }
 }
 
+TEST(Tuple, IntegerPowersMatchBinomialClosedFormAndDoubleValues) {
+  // (x - 0.3)^n through order 8: n! / (n - k)! (x - 0.3)^(n - k); the
+  // value is the double evaluator's pow_int bit for bit.
+  using T = Tuple<1, 8>;
+  for (double x : {-2.5, -0.1, 0.31, 1.7, 40.0})
+    for (int n : {1, 2, 3, 4, 7, 12}) {
+      const T p = pow_int(T::variable(0, x) - T(0.3), n);
+      EXPECT_EQ(p.value(), pow_int(x - 0.3, n)) << "n " << n << " x " << x;
+      for (int k = 0; k <= 8; ++k) {
+        const double expected = k > n ? 0.0 : test::falling_factorial(n, k) * std::pow(x - 0.3, n - k);
+        EXPECT_NEAR(p.derivative(MultiIndex<1>{k}), expected, 1e-13 * (1 + std::abs(expected)))
+            << "n " << n << " k " << k << " x " << x;
+      }
+    }
+}
+
 // A composite with every kind of operation, smooth on [-1, 1]^2 (the R0
 // arguments stay away from their corner).
 Expr composite_2d() {

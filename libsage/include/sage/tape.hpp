@@ -14,6 +14,7 @@
 #include <sage/chebyshev_patch.hpp>
 #include <sage/expression.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -48,15 +49,29 @@ class Tape {
   /// Register holding variable i (0 = x), fixed: registers 0..dimension-1.
   static std::uint32_t variable_register(int i) { return static_cast<std::uint32_t>(i); }
 
+  /// The graph behind the registers, for passes that walk it: for each
+  /// instruction, the instructions whose results its arguments are
+  /// (kInput for a variable or constant), and how many arguments of later
+  /// instructions read each result (a root's counts two more: read forever).
+  static constexpr std::uint32_t kInput = static_cast<std::uint32_t>(-1);
+  const std::vector<std::array<std::uint32_t, 2>>& producers() const { return producers_; }
+  const std::vector<std::uint32_t>& readers() const { return readers_; }
+  /// The instruction computing each root (kInput: a variable or constant).
+  const std::vector<std::uint32_t>& result_producers() const { return result_producers_; }
+
  private:
   friend class TapeSpecializer;  // builds tapes specialized to a box
   Tape() = default;
+  void link();  // fills producers_ and readers_ from the code
 
   int dimension_ = 0;
   std::size_t registers_ = 0;
   std::vector<Instruction> code_;
   std::vector<std::pair<std::uint32_t, double>> constants_;
   std::vector<std::uint32_t> results_;
+  std::vector<std::array<std::uint32_t, 2>> producers_;
+  std::vector<std::uint32_t> readers_;
+  std::vector<std::uint32_t> result_producers_;
   std::vector<std::shared_ptr<const PointClassifier>> classifiers_;  // keeps them alive
   std::vector<std::shared_ptr<const ChebyshevPatch>> patches_;       // likewise
 };

@@ -30,6 +30,7 @@
 #include <sage/multi_index.hpp>
 #include <sage/scalar.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -199,9 +200,24 @@ Tuple<N, K> pow_real(const Tuple<N, K>& a, double r) {
   return compose(a, power_series<K>(a0, r));
 }
 
+/// Taylor coefficients of t -> (a0 + t)^n at t = 0 for n >= 0:
+/// C(n, k) a0^(n - k), powers by sage::pow_int (the value then equals the
+/// double evaluator's bit for bit, and no std::pow runs).
+template <int K>
+std::array<double, K + 1> integer_power_series(double a0, int n) {
+  std::array<double, K + 1> g{};
+  double binomial = 1.0;
+  for (int k = 0; k <= std::min(n, K); ++k) {
+    g[k] = binomial * sage::pow_int(a0, n - k);
+    binomial = binomial * (n - k) / (k + 1);
+  }
+  return g;
+}
+
 template <int N, int K>
 Tuple<N, K> pow_int(const Tuple<N, K>& a, int n) {
   const double a0 = a.value();
+  if (a0 != 0.0 && n >= 0) return compose(a, integer_power_series<K>(a0, n));
   if (a0 != 0.0) return compose(a, power_series<K>(a0, n));
   if (n < 0) return Tuple<N, K>(std::numeric_limits<double>::infinity());
   std::array<double, K + 1> g{};  // (0 + t)^n = t^n exactly
