@@ -32,8 +32,10 @@ constexpr std::uint32_t kNoProducer = Tape::kInput;  // a variable or constant
 
 // decide()'s per-instruction records for prune_by_bounds().
 struct TapeSpecializer::Bounds {
-  std::vector<Interval> out;  // each instruction's enclosure
+  std::vector<Interval> out;  // each instruction's enclosure, per box: out[i * lanes + lane]
   std::vector<double> up, low;
+  std::vector<std::uint32_t> decisions;    // the mins, maxes, steps and classifiers
+  std::vector<std::uint32_t> bound_nodes;  // the mins, maxes and negations
 };
 
 struct TapeSpecializer::Scratch {
@@ -54,10 +56,10 @@ TapeSpecializer& TapeSpecializer::operator=(TapeSpecializer&&) noexcept = defaul
 
 void TapeSpecializer::rebind(const Tape& tape) {
   tape_ = &tape;
-  registers_.resize(tape.register_count());
   fate_.resize(tape.code().size());
   constant_.resize(tape.code().size());
-  for (const auto& [r, c] : tape.constants()) registers_[r] = Interval(c);
+  bounds_->up.resize(tape.code().size());
+  bounds_->low.resize(tape.code().size());
 }
 
 bool TapeSpecializer::worthwhile(const Tape& tape) {
@@ -70,6 +72,15 @@ bool TapeSpecializer::worthwhile(const Tape& tape) {
 std::optional<Tape> TapeSpecializer::specialize(const Interval* box) {
   if (!decide(box)) return std::nullopt;
   return rebuild();
+}
+
+void TapeSpecializer::specialize_each(const std::array<Interval, 3>* boxes, std::size_t count,
+                                      std::optional<Tape>* tapes) {
+  trace(boxes, count);
+  for (std::size_t lane = 0; lane < count; ++lane) {
+    tapes[lane].reset();
+    if (decide_lane(lane)) tapes[lane] = rebuild();
+  }
 }
 
 namespace {
@@ -154,45 +165,87 @@ void TapeSpecializer::mark_analytic(const Interval* box, double enlargement) {
 }
 
 bool TapeSpecializer::decide(const Interval* box) {
-  for (int i = 0; i < tape_->dimension(); ++i) registers_[i] = box[i];
-  bool pruned = false;
+  std::array<Interval, 3> one{Interval(0.0), Interval(0.0), Interval(0.0)};
+  std::copy(box, box + tape_->dimension(), one.begin());
+  trace(&one, 1);
+  return decide_lane(0);
+}
+
+// One pass over the code for all boxes: the operation is decoded once per
+// instruction, and its enclosures over the boxes are computed together.
+void TapeSpecializer::trace(const std::array<Interval, 3>* boxes, std::size_t lanes) {
   const auto& code = tape_->code();
+  const int dimension = tape_->dimension();
   Bounds& w = *bounds_;
-  // Per-instruction records are set as the pass reaches them.
-  w.out.resize(code.size());
-  w.up.resize(code.size());
-  w.low.resize(code.size());
-  constexpr double kInf = std::numeric_limits<double>::infinity();
+  lanes_ = lanes;
+  registers_.resize(tape_->register_count() * lanes);
+  for (const auto& [r, c] : tape_->constants()) std::fill_n(&registers_[r * lanes], lanes, Interval(c));
+  for (int v = 0; v < dimension; ++v)
+    for (std::size_t l = 0; l < lanes; ++l) registers_[static_cast<std::size_t>(v) * lanes + l] = boxes[l][v];
+  w.out.resize(code.size() * lanes);
+  w.decisions.clear();
+  w.bound_nodes.clear();
+  std::array<Interval, 3> variables{};
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
-    Fate fate = Fate::Keep;
-    Interval out;
-    const Interval& a = registers_[ins.a];
-    const Interval& b = registers_[ins.b];
-    if (ins.op == Op::Classify) {
-      out = classify_at(*ins.classifier, registers_.data());
-      if (out.lo == out.hi) fate = Fate::Constant;
-    } else if (ins.op == Op::Patch) {
-      out = ins.patch->evaluate(registers_.data());
+    const Interval* a = &registers_[ins.a * lanes];
+    const Interval* b = &registers_[ins.b * lanes];
+    Interval* out = &w.out[i * lanes];
+    if (ins.op == Op::Classify || ins.op == Op::Patch) {
+      for (std::size_t l = 0; l < lanes; ++l) {
+        for (int v = 0; v < dimension; ++v) variables[v] = registers_[static_cast<std::size_t>(v) * lanes + l];
+        out[l] = ins.op == Op::Classify ? classify_at(*ins.classifier, variables.data())
+                                        : ins.patch->evaluate(variables.data());
+      }
     } else {
+      visit_op(ins.op, [&](auto op) {
+        for (std::size_t l = 0; l < lanes; ++l) out[l] = apply_op<decltype(op)::value>(ins, a[l], b[l]);
+      });
+    }
+    std::copy(out, out + lanes, &registers_[ins.out * lanes]);
+    const bool min_or_max = is_min(ins) || is_max(ins);
+    if (min_or_max || ins.op == Op::Step || ins.op == Op::Classify)
+      w.decisions.push_back(static_cast<std::uint32_t>(i));
+    if (min_or_max || ins.op == Op::Neg) w.bound_nodes.push_back(static_cast<std::uint32_t>(i));
+  }
+}
+
+const Interval& TapeSpecializer::enclosure(std::uint32_t producer, std::uint32_t reg) const {
+  // Variables and constants keep their registers for the whole pass.
+  return producer == kNoProducer ? registers_[reg * lanes_ + lane_] : bounds_->out[producer * lanes_ + lane_];
+}
+
+bool TapeSpecializer::decide_lane(std::size_t lane) {
+  const auto& code = tape_->code();
+  const auto& producers = tape_->producers();
+  const Bounds& w = *bounds_;
+  lane_ = lane;
+  std::fill(fate_.begin(), fate_.end(), Fate::Keep);
+  bool pruned = false;
+  for (std::uint32_t i : w.decisions) {
+    const Instruction& ins = code[i];
+    const Interval& out = w.out[i * lanes_ + lane];
+    Fate fate = Fate::Keep;
+    if (ins.op == Op::Classify) {
+      if (out.lo == out.hi) fate = Fate::Constant;
+    } else if (ins.op == Op::Step) {
+      const Interval& a = enclosure(producers[i][0], ins.a);
+      if (a.lo > 0.0 || a.hi < 0.0) fate = Fate::Constant;
+    } else {
+      const Interval& a = enclosure(producers[i][0], ins.a);
+      const Interval& b = enclosure(producers[i][1], ins.b);
       // Strict comparisons: NaN bounds never prune.
       if (is_min(ins)) {
         if (a.hi < b.lo) fate = Fate::FirstArgument;
         if (b.hi < a.lo) fate = Fate::SecondArgument;
-      } else if (is_max(ins)) {
+      } else {
         if (a.lo > b.hi) fate = Fate::FirstArgument;
         if (b.lo > a.hi) fate = Fate::SecondArgument;
       }
-      out = apply<Interval>(ins, a, b);
-      if (ins.op == Op::Step && (a.lo > 0.0 || a.hi < 0.0)) fate = Fate::Constant;
     }
-    w.up[i] = kInf;
-    w.low[i] = -kInf;
     fate_[i] = fate;
     constant_[i] = out.lo;  // exact for the constant fates: step gives 0 or 1, classify one value
     pruned |= fate != Fate::Keep;
-    registers_[ins.out] = out;
-    w.out[i] = out;
   }
   pruned |= prune_by_bounds();
   return pruned;
@@ -215,18 +268,19 @@ bool TapeSpecializer::prune_by_bounds() {
   const auto& readers = tape_->readers();
   Bounds& w = *bounds_;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  auto enclosure = [&](std::uint32_t producer, std::uint32_t reg) -> const Interval& {
-    return producer == kNoProducer ? registers_[reg] : w.out[producer];  // variables and constants keep theirs
-  };
+  for (std::uint32_t i : w.bound_nodes) {
+    w.up[i] = kInf;
+    w.low[i] = -kInf;
+  }
   auto pass = [&](std::uint32_t producer, double up, double low) {
     if (producer == kNoProducer || readers[producer] != 1) return;
     w.up[producer] = up;
     w.low[producer] = low;
   };
   bool pruned = false;
-  for (std::size_t i = code.size(); i-- > 0;) {
+  for (std::size_t k = w.bound_nodes.size(); k-- > 0;) {
+    const std::uint32_t i = w.bound_nodes[k];
     const Instruction& ins = code[i];
-    if (fate_[i] == Fate::Constant || ins.op == Op::Patch) continue;
     const double up = w.up[i], low = w.low[i];
     const auto [pa, pb] = producers[i];
     if (ins.op == Op::Neg) {

@@ -124,6 +124,38 @@ TEST(TapeSpecialization, MinMaxDagsKeepTheirBits) {
   EXPECT_GT(shortened, 100u);
 }
 
+TEST(TapeSpecialization, SeveralBoxesAtOnceGiveEachBoxsTape) {
+  // specialize_each over a block's four children (and over one box, and
+  // eight) gives the tapes specialize gives box by box: same length, same
+  // numbers at points of each box.
+  const Tape tape(r_and(disks(200, RSystem::min_max(), 5), 1.0 - square(Expr::x()) * 0.01, RSystem::min_max()), 2);
+  TapeSpecializer together(tape), alone(tape);
+  auto rng = test::make_rng(6);
+  for (std::size_t count : {1, 4, 8}) {
+    for (int trial = 0; trial < 10; ++trial) {
+      std::array<std::array<Interval, 3>, 8> boxes;
+      const double x = test::uniform(rng, -11, 10), y = test::uniform(rng, -11, 10);
+      for (std::size_t k = 0; k < count; ++k) {
+        const double w = test::uniform(rng, 0.1, 2.0), dx = 0.5 * (k % 2), dy = 0.5 * (k / 2 % 2);
+        boxes[k] = {Interval(x + dx, x + dx + w), Interval(y + dy, y + dy + w), Interval(0.0)};
+      }
+      std::array<std::optional<Tape>, 8> tapes;
+      together.specialize_each(boxes.data(), count, tapes.data());
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::optional<Tape> expected = alone.specialize(boxes[k].data());
+        ASSERT_EQ(tapes[k].has_value(), expected.has_value());
+        if (!expected) continue;
+        EXPECT_EQ(tapes[k]->code().size(), expected->code().size());
+        for (int j = 0; j < 5; ++j) {
+          const test::Point p{test::uniform(rng, boxes[k][0].lo, boxes[k][0].hi),
+                              test::uniform(rng, boxes[k][1].lo, boxes[k][1].hi), 0};
+          expect_same_at<1>(tape, *tapes[k], p);
+        }
+      }
+    }
+  }
+}
+
 TEST(TapeSpecialization, StepsAndClassifiersFoldToConstants) {
   const auto ball = std::make_shared<const test::BallClassifier>();  // |p| < 1.2
   const Expr e = Expr::classify(ball) * (step(Expr::x() - 2.0) + Expr::y());

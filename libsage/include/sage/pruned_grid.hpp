@@ -91,35 +91,82 @@ inline TapeSpecializer& thread_specializer(const Tape& tape) {
   return *specializer;
 }
 
-template <class T, class Visit>
-void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Visit& visit, int depth,
-                 std::atomic<std::size_t>& done, const Progress& progress, const BlockPlan& plan) {
+/// Whether a block is split (and its tape specialized or patched) rather
+/// than evaluated point by point, and whether it gets far-field patches.
+inline bool splits(const Tape& tape, const GridBlock& block, const BlockPlan& plan) {
   const bool patch = plan.approximation && block.size() >= plan.patch_points;
   const bool prune =
       plan.prune && (block.size() > kLeafPoints || (block.size() >= 4 && tape.code().size() > kLongTape));
-  if ((patch || prune) && tape.code().size() > kSmallTape) {
-    TapeSpecializer& specializer = thread_specializer(tape);
-    const std::array<Interval, 3> box = block_box(grid, block);
-    const std::optional<Tape> smaller =
-        patch ? specializer.approximate(box.data(), *plan.approximation) : specializer.specialize(box.data());
-    const Tape& next = smaller ? *smaller : tape;
-    // Halve every axis that has more than one point.
-    std::array<int, 3> mid{};
-    for (int a = 0; a < 3; ++a) mid[a] = (block.lo[a] + block.hi[a]) / 2;
-    for (int c = 0; c < 8; ++c) {
-      GridBlock child = block;
-      bool skip = false;
-      for (int a = 0; a < 3; ++a) {
-        const bool upper = (c >> a) & 1;
-        if (block.hi[a] - block.lo[a] <= 1) {
-          skip |= upper;
-          continue;
-        }
-        (upper ? child.lo[a] : child.hi[a]) = mid[a];
+  return (patch || prune) && tape.code().size() > kSmallTape;
+}
+inline bool patches(const GridBlock& block, const BlockPlan& plan) {
+  return plan.approximation && block.size() >= plan.patch_points;
+}
+
+/// The block's children: every axis with more than one point halved.
+inline std::size_t children_of(const GridBlock& block, std::array<GridBlock, 8>& children) {
+  std::array<int, 3> mid{};
+  for (int a = 0; a < 3; ++a) mid[a] = (block.lo[a] + block.hi[a]) / 2;
+  std::size_t count = 0;
+  for (int c = 0; c < 8; ++c) {
+    GridBlock child = block;
+    bool skip = false;
+    for (int a = 0; a < 3; ++a) {
+      const bool upper = (c >> a) & 1;
+      if (block.hi[a] - block.lo[a] <= 1) {
+        skip |= upper;
+        continue;
       }
-      if (skip) continue;
-#pragma omp task default(shared) firstprivate(child) if (depth < kTaskDepth)
-      visit_block<T>(next, grid, child, visit, depth + 1, done, progress, plan);
+      (upper ? child.lo[a] : child.hi[a]) = mid[a];
+    }
+    if (!skip) children[count++] = child;
+  }
+  return count;
+}
+
+/// Visits `block` with `tape`, already specialized to it when
+/// `specialized` (its parent did that for all its children in one pass).
+template <class T, class Visit>
+void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Visit& visit, int depth,
+                 std::atomic<std::size_t>& done, const Progress& progress, const BlockPlan& plan,
+                 bool specialized = false) {
+  if (splits(tape, block, plan)) {
+    std::optional<Tape> own;
+    if (!specialized) {
+      TapeSpecializer& specializer = thread_specializer(tape);
+      const std::array<Interval, 3> box = block_box(grid, block);
+      own = patches(block, plan) ? specializer.approximate(box.data(), *plan.approximation)
+                                 : specializer.specialize(box.data());
+    }
+    const Tape& next = own ? *own : tape;
+    std::array<GridBlock, 8> children;
+    const std::size_t count = children_of(block, children);
+    // Children that specialize without patches do it together, in one pass
+    // over `next` (decoding it once instead of once per child).
+    std::array<std::optional<Tape>, 8> child_tapes;
+    std::array<bool, 8> together{};
+    std::array<std::array<Interval, 3>, 8> boxes;
+    std::array<std::size_t, 8> which{};
+    std::size_t batched = 0;
+    for (std::size_t c = 0; c < count; ++c)
+      if (splits(next, children[c], plan) && !patches(children[c], plan)) {
+        together[c] = true;
+        which[batched] = c;
+        boxes[batched++] = block_box(grid, children[c]);
+      }
+    if (batched > 0) {
+      std::array<std::optional<Tape>, 8> made;
+      thread_specializer(next).specialize_each(boxes.data(), batched, made.data());
+      for (std::size_t k = 0; k < batched; ++k) child_tapes[which[k]] = std::move(made[k]);
+    }
+    for (std::size_t c = 0; c < count; ++c) {
+      // Per task: the child, its tape (kept alive by this frame until the
+      // taskwait) and whether it is specialized already.
+      const Tape* child_tape = child_tapes[c] ? &*child_tapes[c] : &next;
+      const GridBlock child = children[c];
+      const bool child_specialized = together[c];
+#pragma omp task default(shared) firstprivate(child, child_tape, child_specialized) if (depth < kTaskDepth)
+      visit_block<T>(*child_tape, grid, child, visit, depth + 1, done, progress, plan, child_specialized);
     }
 #pragma omp taskwait
     return;

@@ -44,6 +44,7 @@
 #include <sage/tape.hpp>
 #include <sage/tuple.hpp>
 
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -76,6 +77,12 @@ class TapeSpecializer {
   /// dropped. The roots' enclosures over the box are in result() either way.
   std::optional<Tape> specialize(const Interval* box);
 
+  /// Specializes over `count` boxes at once (a grid block's children):
+  /// tapes[k] is what specialize(boxes[k].data()) would give, but one pass
+  /// over the code evaluates the enclosures over all boxes, decoding each
+  /// instruction once. result() is then root enclosures over boxes[0].
+  void specialize_each(const std::array<Interval, 3>* boxes, std::size_t count, std::optional<Tape>* tapes);
+
   /// Specializes over `box` as specialize() does, with the min/max and
   /// constant decisions taken over the enlarged box, and also replaces the
   /// largest analytic subtrees by Chebyshev patches fitted over `box` (see
@@ -89,14 +96,21 @@ class TapeSpecializer {
   static bool worthwhile(const Tape& tape);
 
   /// Enclosure of root i over the last box.
-  const Interval& result(std::size_t i = 0) const { return registers_[tape_->results()[i]]; }
+  const Interval& result(std::size_t i = 0) const { return registers_[tape_->results()[i] * lanes_]; }
 
  private:
   // What an instruction becomes over the box.
   enum class Fate : unsigned char { Keep, FirstArgument, SecondArgument, Constant, Patch };
 
-  // The interval pass: fates and enclosures; true if anything was pruned.
+  // The interval pass over one box and its decisions; true if anything
+  // was pruned.
   bool decide(const Interval* box);
+  // The interval pass over `lanes` boxes: every instruction's enclosures.
+  void trace(const std::array<Interval, 3>* boxes, std::size_t lanes);
+  // Fates over box `lane` of the last trace; true if anything was pruned.
+  bool decide_lane(std::size_t lane);
+  // An argument's enclosure over the current lane's box.
+  const Interval& enclosure(std::uint32_t producer, std::uint32_t reg) const;
   // Prunes min/max arguments that bounds from above rule out; true if any.
   bool prune_by_bounds();
   // Which instructions are analytic across the box enlarged (from values
@@ -112,7 +126,9 @@ class TapeSpecializer {
   struct Bounds;   // decide()'s records for prune_by_bounds()
 
   const Tape* tape_;
-  std::vector<Interval> registers_;
+  std::vector<Interval> registers_;  // per box: registers_[r * lanes_ + lane]
+  std::size_t lanes_ = 1;            // boxes of the last trace
+  std::size_t lane_ = 0;             // the box being decided
   std::vector<Fate> fate_;
   std::vector<double> constant_;  // the value, for Fate::Constant
   std::vector<char> analytic_;    // per instruction, over the last enlarged box
