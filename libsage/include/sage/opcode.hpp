@@ -5,6 +5,7 @@
 // with new ids. Evaluators, printing, differentiation and the test sweep
 // over all operations are driven by this one list.
 
+#include <array>
 #include <cstdint>
 #include <string_view>
 #include <type_traits>
@@ -48,15 +49,20 @@ enum class Op : std::uint8_t {
 #undef SAGE_OP_ENUM
 };
 
-constexpr int arity(Op op) {
-  switch (op) {
-#define SAGE_OP_ARITY(name, id, text, ar) \
-  case Op::name: return ar;
-    SAGE_OPCODES(SAGE_OP_ARITY)
+namespace detail {
+// Arity by opcode (-1: no such operation): a table, since tape passes ask
+// it for every instruction and a switch compiles to a chain of branches.
+constexpr std::array<std::int8_t, 256> kArity = [] {
+  std::array<std::int8_t, 256> table{};
+  table.fill(-1);
+#define SAGE_OP_ARITY(name, id, text, ar) table[id] = ar;
+  SAGE_OPCODES(SAGE_OP_ARITY)
 #undef SAGE_OP_ARITY
-  }
-  return -1;
-}
+  return table;
+}();
+}  // namespace detail
+
+constexpr int arity(Op op) { return detail::kArity[static_cast<std::uint8_t>(op)]; }
 
 constexpr std::string_view op_name(Op op) {
   switch (op) {
