@@ -1,5 +1,6 @@
 // sage solve PROBLEM.json -o OUT.vtu [--degree 3] [--cells 64 | --h 0.01]
-//            [--basis web|weighted] [--robin weak|structure] [--solver auto|direct|cg|jacobi] [--tolerance T]
+//            [--basis web|weighted] [--robin weak|structure [--robin-band F] [--robin-band-power M]]
+//            [--solver auto|direct|cg|jacobi] [--tolerance T]
 //            [--grid RES]
 //            [--quadrature-points FILE.vtu] [--condition | --no-condition] [--quiet]
 
@@ -133,6 +134,17 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
               command.options.degree, command.basis.c_str(),
               command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
               command.options.cell_width);
+  if (command.options.robin == solver::RobinRoute::Structure) {
+    double longest = 0.0;
+    for (int a = 0; a < D; ++a) longest = std::max(longest, file.problem.max[a] - file.problem.min[a]);
+    const double band = solver::robin_band_width(command.options.robin_band, command.options.cell_width, longest,
+                                                 command.options.degree);
+    if (band > 0.0)
+      std::printf("  structure multiplier cut off at distance %g (--robin-band %g), power %d\n", band,
+                  command.options.robin_band, command.options.robin_band_power);
+    else
+      std::printf("  structure multiplier: the global distance field (--robin-band 0)\n");
+  }
   std::printf("  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface\n", r.cells,
               r.cells_inside, r.cells_cut, r.volume_points, r.surface_points);
   std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
@@ -176,6 +188,11 @@ int run_solve(const std::vector<std::string>& args) {
   add("robin", po::value(&command.robin),
       "weak (Neumann and Robin conditions by boundary integrals; default) or structure (Rvachev's solution "
       "structure as well, degree >= 2; overrides the problem file's \"robin\")");
+  add("robin-band", po::value(&command.options.robin_band)->default_value(command.options.robin_band),
+      "structure route: the multiplier is cut off at distance F L (h/L)^(1/degree) from the Robin parts, L the "
+      "box's longest side (0: no cut-off, the global distance field)");
+  add("robin-band-power", po::value(&command.options.robin_band_power)->default_value(command.options.robin_band_power),
+      "structure route: the power M of the cut-off (1 - w / band)^M, M >= 2");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
       "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
       "or jacobi (conjugate gradients, Jacobi)");
@@ -204,6 +221,9 @@ int run_solve(const std::vector<std::string>& args) {
   if (command.h && !(*command.h > 0.0)) throw UsageError{"--h must be positive"};
   if (vm.count("tolerance") && !(command.options.cg_tolerance > 0.0 && command.options.cg_tolerance < 1.0))
     throw UsageError{"--tolerance must be in (0, 1)"};
+  if (!(command.options.robin_band >= 0.0) || !std::isfinite(command.options.robin_band))
+    throw UsageError{"--robin-band must be 0 or positive"};
+  if (command.options.robin_band_power < 2) throw UsageError{"--robin-band-power must be 2 or more"};
   try {
     command.options.basis = solver::parse_basis_kind(command.basis);
   } catch (const std::invalid_argument& e) {

@@ -109,6 +109,39 @@ TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
   EXPECT_EQ(run("solve " + plain + " -o " + scratch("x.vtu").string() + " --robin strong").exit_code, 2);
 }
 
+TEST(CliSolve, RobinBandFlagsReachTheStructure) {
+  // The cut-off of the structure's multiplier is set from the command line:
+  // the summary states it, 0 keeps the global field, and the solutions
+  // differ (they are the same only on the boundary).
+  const std::string problem = disk_problem("solve_band.json", R"({ "rim": { "type": "dirichlet", "value": 0 },
+      "hole": { "type": "robin", "beta": 2, "flux": "x" }, "default": { "type": "robin", "beta": 2, "flux": "x" } })");
+  const std::string common = " --degree 2 --cells 16 --no-condition --robin structure";
+  const fs::path cut = scratch("band_cut.vtu"), global = scratch("band_global.vtu");
+  Result r = run("solve " + problem + " -o " + cut.string() + common + " --robin-band 0.5 --robin-band-power 4");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // 0.5 L (h / L)^(1/2) with L = 2, h = 1/8: 0.25.
+  EXPECT_NE(r.output.find("cut off at distance 0.25 (--robin-band 0.5), power 4"), std::string::npos) << r.output;
+  r = run("solve " + problem + " -o " + global.string() + common + " --robin-band 0");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("the global distance field"), std::string::npos) << r.output;
+  auto read_u = [](const fs::path& path) {
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    vtkDataArray* u = reader->GetOutput()->GetPointData()->GetArray("u");
+    std::vector<double> values(static_cast<std::size_t>(u->GetNumberOfTuples()));
+    for (vtkIdType i = 0; i < u->GetNumberOfTuples(); ++i) values[static_cast<std::size_t>(i)] = u->GetComponent(i, 0);
+    return values;
+  };
+  const std::vector<double> a = read_u(cut), b = read_u(global);
+  ASSERT_EQ(a.size(), b.size());
+  double largest = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) largest = std::max(largest, std::abs(a[i] - b[i]));
+  EXPECT_GT(largest, 1e-6);
+  for (const char* bad : {" --robin-band -1", " --robin-band nan", " --robin-band-power 1"})
+    EXPECT_EQ(run("solve " + problem + " -o " + cut.string() + common + bad).exit_code, 2) << bad;
+}
+
 TEST(CliSolve, CompatiblePureNeumannIsSolved) {
   // f = 1 on the disk minus the hole (area 0.91 pi) balances h = -0.5 on the
   // rim (length 2 pi) and h = 0.15 on the hole (length 0.6 pi).
