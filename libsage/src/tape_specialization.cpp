@@ -30,7 +30,7 @@ bool is_instruction(Source s) { return s >= 0; }
 
 constexpr std::uint32_t kNoProducer = Tape::kInput;  // a variable or constant
 
-// decide()'s per-instruction records for prune_by_bounds().
+// trace()'s records, for decide_lane() and prune_by_bounds().
 struct TapeSpecializer::Bounds {
   std::vector<Interval> out;  // each instruction's enclosure, per box: out[i * lanes + lane]
   std::vector<double> up, low;

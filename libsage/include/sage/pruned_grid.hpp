@@ -91,16 +91,17 @@ inline TapeSpecializer& thread_specializer(const Tape& tape) {
   return *specializer;
 }
 
-/// Whether a block is split (and its tape specialized or patched) rather
-/// than evaluated point by point, and whether it gets far-field patches.
-inline bool splits(const Tape& tape, const GridBlock& block, const BlockPlan& plan) {
-  const bool patch = plan.approximation && block.size() >= plan.patch_points;
-  const bool prune =
-      plan.prune && (block.size() > kLeafPoints || (block.size() >= 4 && tape.code().size() > kLongTape));
-  return (patch || prune) && tape.code().size() > kSmallTape;
-}
+/// Whether a block gets far-field patches (and so specializes alone).
 inline bool patches(const GridBlock& block, const BlockPlan& plan) {
   return plan.approximation && block.size() >= plan.patch_points;
+}
+
+/// Whether a block is split, its tape specialized or patched, rather than
+/// evaluated point by point.
+inline bool splits(const Tape& tape, const GridBlock& block, const BlockPlan& plan) {
+  const bool prune =
+      plan.prune && (block.size() > kLeafPoints || (block.size() >= 4 && tape.code().size() > kLongTape));
+  return (patches(block, plan) || prune) && tape.code().size() > kSmallTape;
 }
 
 /// The block's children: every axis with more than one point halved.

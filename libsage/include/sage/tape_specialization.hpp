@@ -123,7 +123,7 @@ class TapeSpecializer {
   Tape rebuild(const std::vector<std::size_t>* outputs = nullptr);
 
   struct Scratch;  // rebuild()'s work arrays, kept between calls
-  struct Bounds;   // decide()'s records for prune_by_bounds()
+  struct Bounds;   // trace()'s records for the decisions and prune_by_bounds()
 
   const Tape* tape_;
   std::vector<Interval> registers_;  // per box: registers_[r * lanes_ + lane]
