@@ -134,13 +134,9 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
               command.options.degree, command.basis.c_str(),
               command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
               command.options.cell_width);
-  if (command.options.robin == solver::RobinRoute::Structure) {
-    double longest = 0.0;
-    for (int a = 0; a < D; ++a) longest = std::max(longest, file.problem.max[a] - file.problem.min[a]);
-    const double band = solver::robin_band_width(command.options.robin_band, command.options.cell_width, longest,
-                                                 command.options.degree);
-    if (band > 0.0)
-      std::printf("  structure multiplier cut off at distance %g (--robin-band %g), power %d\n", band,
+  if (r.robin_band) {
+    if (*r.robin_band > 0.0)
+      std::printf("  structure multiplier cut off at distance %g (--robin-band %g), power %d\n", *r.robin_band,
                   command.options.robin_band, command.options.robin_band_power);
     else
       std::printf("  structure multiplier: the global distance field (--robin-band 0)\n");

@@ -365,10 +365,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
   double longest = 0.0;
   for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
-  const TrialStructure trial =
-      structured ? robin_trial(problem, structure, robin_band_width(options.robin_band, grid.h, longest, n),
-                               options.robin_band_power)
-                 : dirichlet_trial(structure);
+  if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest, n);
+  const TrialStructure trial = structured
+                                   ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
+                                   : dirichlet_trial(structure);
   if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
 
   // Quadrature: volume rules of inside and cut cells, surface rules where

@@ -62,7 +62,7 @@ class Tape {
  private:
   friend class TapeSpecializer;  // builds tapes specialized to a box
   Tape() = default;
-  void link();  // fills producers_ and readers_ from the code
+  void link();  // fills producers_, readers_ and result_producers_ from the code
 
   int dimension_ = 0;
   std::size_t registers_ = 0;

@@ -92,8 +92,9 @@ struct SolveReport {
   std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
   std::size_t volume_points = 0, surface_points = 0;
   std::string linear_solver;
-  int iterations = 0;                                                  // 1 for a direct solve
-  double cg_tolerance = 0.0;                                           // relative residual used (CG only)
+  int iterations = 0;                // 1 for a direct solve
+  double cg_tolerance = 0.0;         // relative residual used (CG only)
+  std::optional<double> robin_band;  // structure route: the multiplier's cut-off distance used (0: global W)
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
   StageSeconds seconds;                                                // wall clock
