@@ -28,12 +28,18 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   for (int a = 0; a < dimension; ++a)
     if (!(box[a].width() > 0)) return nullptr;
 
-  // cos(i pi (k + 1/2) / (n + 1)): T_i at node k.
-  std::vector<double> t(m * m);
-  for (std::size_t i = 0; i < m; ++i)
-    for (std::size_t k = 0; k < m; ++k)
-      t[i * m + k] =
-          std::cos(std::numbers::pi * static_cast<double>(i) * (static_cast<double>(k) + 0.5) / static_cast<double>(m));
+  // cos(i pi (k + 1/2) / (n + 1)): T_i at node k. Far-field approximation
+  // fits thousands of patches of one sampling degree: keep the table.
+  thread_local std::vector<double> t;
+  thread_local std::size_t t_size = 0;
+  if (t_size != m) {
+    t.resize(m * m);
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t k = 0; k < m; ++k)
+        t[i * m + k] = std::cos(std::numbers::pi * static_cast<double>(i) * (static_cast<double>(k) + 0.5) /
+                                static_cast<double>(m));
+    t_size = m;
+  }
 
   // The discrete Chebyshev transform along each axis in turn.
   std::vector<double> c = f, next(total);

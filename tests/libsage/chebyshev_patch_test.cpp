@@ -83,6 +83,49 @@ TEST(ChebyshevPatch, AnalyticFieldsWithinTheirTail) {
   }
 }
 
+// Grid sampling asks patches for value and gradient (first-order tuples),
+// which take a path of their own: the series and its partials in doubles.
+// It must agree with the general tuple path, and through the chain rule
+// also for inputs that are not the coordinates themselves.
+TEST(ChebyshevPatch, FirstOrderTuplesMatchTheGeneralPath) {
+  auto f = [](const std::array<double, 3>& p) {
+    return std::exp(0.3 * p[0]) * std::cos(p[1] + 0.5 * p[2]) + p[0] * p[1];
+  };
+  auto rng = test::make_rng(11);
+  for (int dimension = 1; dimension <= 3; ++dimension) {
+    Box box{Interval(0.0), Interval(0.0), Interval(0.0)};
+    for (int a = 0; a < dimension; ++a) box[a] = Interval(-1.0 + 0.5 * a, 1.5 + a);
+    const int n = 10;
+    std::size_t samples = 1;
+    for (int a = 0; a < dimension; ++a) samples *= n + 1;
+    std::vector<double> values(samples);
+    for (std::size_t k = 0; k < samples; ++k) values[k] = f(ChebyshevPatch::sample_point(box.data(), dimension, n, k));
+    const auto patch = ChebyshevPatch::fit(box.data(), dimension, n, values, 1e-3);
+    ASSERT_TRUE(patch);
+    ASSERT_GE(patch->degree(), 3);
+    for (int trial = 0; trial < 100; ++trial) {
+      // Inputs u_a(s, t) = p_a + s + a t + s t: tuples in two other variables.
+      const double s = test::uniform(rng, -0.1, 0.1), t = test::uniform(rng, -0.1, 0.1);
+      Tuple<2, 1> fast[3];
+      Tuple<2, 2> general[3];
+      double point[3];
+      for (int a = 0; a < dimension; ++a) {
+        const double centre = test::uniform(rng, box[a].lo + 0.3, box[a].hi - 0.3);
+        auto input = [&](auto sv, auto tv) { return centre + sv + static_cast<double>(a) * tv + sv * tv; };
+        fast[a] = input(Tuple<2, 1>::variable(0, s), Tuple<2, 1>::variable(1, t));
+        general[a] = input(Tuple<2, 2>::variable(0, s), Tuple<2, 2>::variable(1, t));
+        point[a] = fast[a].value();
+      }
+      const Tuple<2, 1> a = patch->evaluate(fast);
+      const Tuple<2, 2> b = patch->evaluate(general);
+      EXPECT_EQ(a.value(), patch->evaluate(point)) << "the value is evaluate<double>'s, bit for bit";
+      EXPECT_NEAR(a.value(), b.value(), 1e-12);
+      EXPECT_NEAR(a.derivative({1, 0}), b.derivative({1, 0}), 1e-11);
+      EXPECT_NEAR(a.derivative({0, 1}), b.derivative({0, 1}), 1e-11);
+    }
+  }
+}
+
 TEST(ChebyshevPatch, RefusesKinksAndNonFiniteSamples) {
   const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
   EXPECT_FALSE(fit_function(box, 12, 1e-6, [](double x, double) { return std::abs(x); }));
@@ -155,6 +198,69 @@ TEST(FarFieldApproximation, FarBoxesBecomeOnePatchAndNearBoxesKeepTheirEdges) {
       EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
       EXPECT_NEAR(a.c[2], b.c[2], 1e-6);
     }
+  }
+}
+
+std::size_t count_op(const Tape& tape, Op op) {
+  std::size_t n = 0;
+  for (const Instruction& ins : tape.code()) n += ins.op == op;
+  return n;
+}
+
+// An R0 node is singular only where both arguments vanish. Two lines that
+// pass within the enlarged box but cross far outside it leave the node
+// analytic there (the first-order corner estimate sees that; the distance
+// to the nearer of the two lines would not), and lines crossing in the
+// box do not.
+TEST(FarFieldApproximation, CornersFarAwayAreAnalyticEvenWhenBothLinesPassClose) {
+  const Expr x = Expr::x(), y = Expr::y();
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};  // reach: 3 half-diagonals, 4.24
+  Approximation settings;
+  settings.tolerance = 1e-6;
+  settings.min_subtree = 1;
+  // y = 3 and y = -3 + x / 1000: 3 from the centre, crossing at x = 6000.
+  const Expr apart = r_and(3.0 - y, y + 3.0 - 0.001 * x, RSystem::r0());
+  const Tape far(apart, 2);
+  const std::optional<Tape> patched = TapeSpecializer(far).approximate(box.data(), settings);
+  ASSERT_TRUE(patched);
+  EXPECT_EQ(patched->code().size(), 1u);
+  EXPECT_EQ(count_op(*patched, Op::Patch), 1u);
+  Evaluator<double> exact(far), approximate(*patched);
+  for (double px : {-1.0, 0.3, 1.0})
+    for (double py : {-1.0, 0.0, 0.7}) EXPECT_NEAR(exact.at({px, py, 0}), approximate.at({px, py, 0}), 1e-6);
+  // The same lines turned to cross at (0.5, 0.5), inside the box.
+  const Expr crossing = r_and(0.5 - y, y - 0.5 + 0.3 * (x - 0.5), RSystem::r0());
+  const Tape near(crossing, 2);
+  const std::optional<Tape> kept = TapeSpecializer(near).approximate(box.data(), settings);
+  EXPECT_TRUE(!kept || count_op(*kept, Op::RAnd) == 1u) << "the corner's node stays exact";
+}
+
+// The first-order estimate cannot see every singularity: sqrt(x^2 + 1e-4)
+// looks analytic from the centre (its argument is positive with zero
+// gradient there) but has branch points at x = +-0.01 i. When the fit of a
+// subtree fails, its subtrees are tried: the smooth term and the sqrt's
+// argument become patches, and the sqrt and the sum stay exact.
+TEST(FarFieldApproximation, AFailedFitTriesTheSubtreesBelow) {
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr field = sqrt(square(x) + 1e-4) + exp(0.2 * x) * cos(0.3 * y + 0.1 * x);
+  const Tape tape(field, 2);
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
+  Approximation settings;
+  settings.tolerance = 1e-10;
+  settings.min_subtree = 2;
+  const std::optional<Tape> approximated = TapeSpecializer(tape).approximate(box.data(), settings);
+  ASSERT_TRUE(approximated);
+  EXPECT_EQ(count_op(*approximated, Op::Patch), 2u);
+  EXPECT_EQ(count_op(*approximated, Op::Sqrt), 1u);
+  EXPECT_EQ(count_op(*approximated, Op::Add), 1u);
+  Evaluator<Tuple<2, 1>> exact(tape), approximate(*approximated);
+  auto rng = test::make_rng(12);
+  for (int k = 0; k < 200; ++k) {
+    const test::Point p{test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), 0};
+    const auto a = exact.at(p), b = approximate.at(p);
+    EXPECT_NEAR(a.value(), b.value(), 1e-9);
+    EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
+    EXPECT_NEAR(a.c[2], b.c[2], 1e-6);
   }
 }
 

@@ -8,6 +8,7 @@
 #include "test_support.hpp"
 
 #include <sage/derivative.hpp>
+#include <sage/rfunction.hpp>
 #include <sage/tuple.hpp>
 
 #include <gtest/gtest.h>
@@ -181,6 +182,49 @@ TEST(Tuple, IntegerPowersMatchBinomialClosedFormAndDoubleValues) {
             << "n " << n << " k " << k << " x " << x;
       }
     }
+}
+
+// Value and gradient tuples take shortcuts through sqrt and R0 (R0 trees
+// spend most of their time there): the values are the double evaluator's
+// bit for bit, and the gradients are the general path's (second-order
+// tuples run it) and the closed form's.
+TEST(Tuple, FirstOrderSqrtAndR0MatchTheGeneralPath) {
+  using T1 = Tuple<2, 1>;
+  using T2 = Tuple<2, 2>;
+  auto rng = test::make_rng(21);
+  for (int trial = 0; trial < 300; ++trial) {
+    const double px = test::uniform(rng, -2, 2), py = test::uniform(rng, -2, 2);
+    const double ax = test::uniform(rng, -1, 1), ay = test::uniform(rng, -1, 1);
+    // x-like and y-like arguments with gradients (1, ax) and (ay, 1).
+    auto args = [&](auto sx, auto sy) { return std::pair{sx + ax * sy, ay * sx + sy}; };
+    const auto [u1, v1] = args(T1::variable(0, px), T1::variable(1, py));
+    const auto [u2, v2] = args(T2::variable(0, px), T2::variable(1, py));
+    const double u = u1.value(), v = v1.value();
+    const T1 root1 = sqrt(square(u1) + 1.0);
+    const T2 root2 = sqrt(square(u2) + 1.0);
+    EXPECT_EQ(root1.value(), std::sqrt(u * u + 1.0));
+    EXPECT_EQ(root1.value(), pow_real(square(u1) + 1.0, 0.5).value());
+    EXPECT_NEAR(root1.c[1], root2.derivative({1, 0}), 1e-15);
+    for (double sign : {-1.0, 1.0}) {
+      const T1 r1 = r0_combine(u1, v1, sign);
+      const T2 r2 = r0_combine(u2, v2, sign);
+      EXPECT_EQ(r1.value(), r0_combine(u, v, sign));
+      const double r = std::hypot(u, v);
+      for (int axis = 0; axis < 2; ++axis) {
+        const double du = axis == 0 ? 1.0 : ax, dv = axis == 0 ? ay : 1.0;
+        const double closed = du + dv + sign * (u * du + v * dv) / r;
+        const double general = r2.derivative(axis == 0 ? MultiIndex<2>{1, 0} : MultiIndex<2>{0, 1});
+        EXPECT_NEAR(r1.c[1 + axis], closed, 1e-13 * (1 + std::abs(closed)));
+        EXPECT_NEAR(r1.c[1 + axis], general, 1e-13 * (1 + std::abs(closed)));
+      }
+    }
+  }
+  // At the corner both arguments vanish: the general path's convention
+  // (sqrt(0) has derivatives 0), so the gradient is that of x + y.
+  const T1 corner = r0_combine(T1::variable(0, 0.0), T1::variable(1, 0.0), -1.0);
+  EXPECT_EQ(corner.value(), 0.0);
+  EXPECT_EQ(corner.c[1], 1.0);
+  EXPECT_EQ(corner.c[2], 1.0);
 }
 
 // A composite with every kind of operation, smooth on [-1, 1]^2 (the R0

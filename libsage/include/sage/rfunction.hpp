@@ -68,12 +68,18 @@ struct RSystem {
   bool operator==(const RSystem&) const = default;
 };
 
+/// R0: x + y -+ sqrt(x^2 + y^2) (sign = -1 conjunction, +1 disjunction).
+template <class T>
+inline T r0_combine(const T& x, const T& y, double sign) {
+  return x + y + sign * sqrt(clamp_nonneg(square(x) + square(y)));
+}
+
 /// The R-function of the system: sign = -1 conjunction, +1 disjunction.
 template <class T>
 T r_combine(const T& x, const T& y, const RSystem& s, double sign) {
   switch (s.kind) {
     case RKind::MinMax: return sign < 0 ? min(x, y) : max(x, y);
-    case RKind::R0: return x + y + sign * sqrt(clamp_nonneg(square(x) + square(y)));
+    case RKind::R0: return r0_combine(x, y, sign);
     case RKind::RAlpha: {
       // x^2 + y^2 - 2 a x y, written so that at most half of it cancels:
       // as given it loses everything near x = y when a -> 1 (alpha = 1 was

@@ -24,9 +24,12 @@
 // arguments vanish; the root of a sqrt; the kink of an unsettled min) lies
 // farther from the box centre than `enlargement` half-diagonals, by the
 // first-order estimate |f| / |grad f| from values and gradients at the
-// centre, is smooth across the box. A Chebyshev patch (chebyshev_patch.hpp)
-// fitted to its values at Chebyshev points then replaces it, if the
-// patch's coefficients show it within the tolerance. Far from a polygon's
+// centre, is smooth across the box. (An R-function's corner also counts as
+// far when the linearized zero sets of its arguments cross at twice that
+// distance: a coast's edge lines pass close by everywhere but cross far
+// away.) A Chebyshev patch (chebyshev_patch.hpp) fitted to its values at
+// Chebyshev points then replaces it, if the patch's coefficients show it
+// within the tolerance; if not, its subtrees are tried. Far from a polygon's
 // coast the whole field becomes one patch; near it, the edges close by stay
 // exact and the rest of the coast is a few patches. Interval enclosures of
 // deep R-function trees are too wide to decide this, and the estimate is

@@ -227,7 +227,19 @@ Tuple<N, K> pow_int(const Tuple<N, K>& a, int n) {
 
 template <int N, int K>
 Tuple<N, K> sqrt(const Tuple<N, K>& a) {
-  return pow_real(a, 0.5);
+  if constexpr (K == 1) {
+    // pow_real's arithmetic for r = 1/2 without its series machinery (R0
+    // trees take one sqrt per node): the same numbers, bit for bit.
+    const double a0 = a.value();
+    if (!(a0 > 0.0)) return pow_real(a, 0.5);  // 0, negative or NaN
+    const double root = std::sqrt(a0), slope = root * 0.5 / a0;
+    Tuple<N, K> r;
+    r.c[0] = root;
+    for (int k = 1; k <= N; ++k) r.c[k] = slope * a.c[k];
+    return r;
+  } else {
+    return pow_real(a, 0.5);
+  }
 }
 
 template <int N, int K>
@@ -314,6 +326,21 @@ Tuple<N, K> step(const Tuple<N, K>& a) {
 template <int N, int K>
 Tuple<N, K> clamp_nonneg(const Tuple<N, K>& a) {
   return a.value() > 0 ? a : Tuple<N, K>(0.0);
+}
+
+/// The R0 function x + y -+ sqrt(x^2 + y^2) of first-order tuples (value
+/// and gradient; rfunction.hpp's r0_combine for every other type): R0
+/// trees spend most of their time here. The value is the double
+/// evaluator's, bit for bit.
+template <int N>
+Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) {
+  const double x0 = x.c[0], y0 = y.c[0], r2 = x0 * x0 + y0 * y0;
+  if (!(r2 > 0.0)) return x + y + sign * sqrt(clamp_nonneg(x * x + y * y));  // the corner (or NaN)
+  const double root = std::sqrt(r2), slope = sign * root * 0.5 / r2;
+  Tuple<N, 1> r;
+  r.c[0] = x0 + y0 + sign * root;
+  for (int k = 1; k <= N; ++k) r.c[k] = x.c[k] + y.c[k] + slope * (2.0 * x0 * x.c[k] + 2.0 * y0 * y.c[k]);
+  return r;
 }
 
 template <int N, int K>
