@@ -41,16 +41,22 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
     t_size = m;
   }
 
-  // The discrete Chebyshev transform along each axis in turn.
-  std::vector<double> c = f, next(total);
+  // The discrete Chebyshev transform along each axis in turn, line by line
+  // (a line: the m values whose indices differ in axis a only).
+  thread_local std::vector<double> c, next;
+  c.assign(f.begin(), f.end());
+  next.resize(total);
   std::size_t stride = 1;
   for (int a = 0; a < dimension; ++a, stride *= m) {
-    for (std::size_t index = 0; index < total; ++index) {
-      const std::size_t i = (index / stride) % m, base = index - i * stride;
-      double s = 0;
-      for (std::size_t k = 0; k < m; ++k) s += c[base + k * stride] * t[i * m + k];
-      next[index] = s * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
-    }
+    for (std::size_t outer = 0; outer < total; outer += stride * m)
+      for (std::size_t inner = 0; inner < stride; ++inner) {
+        const std::size_t base = outer + inner;
+        for (std::size_t i = 0; i < m; ++i) {
+          double s = 0;
+          for (std::size_t k = 0; k < m; ++k) s += c[base + k * stride] * t[i * m + k];
+          next[base + i * stride] = s * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
+        }
+      }
     std::swap(c, next);
   }
 

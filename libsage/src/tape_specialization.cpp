@@ -44,6 +44,15 @@ struct TapeSpecializer::Scratch {
   std::vector<double> constants;
   std::vector<Source> source, arg_a, arg_b, roots;
   std::vector<std::uint32_t> constant_register, reg, free_registers;
+  // fit_patches()'s: per instruction, then the sampled subtrees' values
+  // (thousands of blocks per thread: allocating and clearing these for each
+  // cost more than the fits).
+  std::vector<std::size_t> size, row, sampled, pending;
+  std::vector<char> read_by_analytic;
+  std::vector<std::array<std::uint32_t, 2>> read;
+  std::vector<std::array<double, 3>> points;
+  std::vector<double> values;
+  std::unique_ptr<BatchEvaluator<double>> batch;
 };
 
 TapeSpecializer::TapeSpecializer(const Tape& tape)
@@ -370,9 +379,13 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   // whether an analytic instruction reads it (then it is not the largest),
   // from the producers of the arguments.
   const auto& producers = tape_->producers();
-  std::vector<std::size_t> size(n, 0);
-  std::vector<char> read_by_analytic(n, 0);
-  std::vector<std::array<std::uint32_t, 2>> read(n, {kNoProducer, kNoProducer});
+  Scratch& w = *scratch_;
+  std::vector<std::size_t>& size = w.size;
+  std::vector<char>& read_by_analytic = w.read_by_analytic;
+  std::vector<std::array<std::uint32_t, 2>>& read = w.read;
+  size.assign(n, 0);
+  read_by_analytic.assign(n, 0);
+  read.resize(n);
   auto size_of = [&](std::uint32_t j) { return j == kNoProducer ? std::size_t{0} : size[j]; };
   for (std::size_t i = 0; i < n; ++i) {
     const Instruction& ins = code[i];
@@ -392,7 +405,10 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   // first, and where a fit fails (the first-order estimate missed a
   // singularity, or the series converges too slowly) its subtrees are
   // tried instead.
-  std::vector<std::size_t> sampled, row(n, 0), pending;
+  std::vector<std::size_t>&sampled = w.sampled, &row = w.row, &pending = w.pending;
+  sampled.clear();
+  pending.clear();
+  row.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     if (analytic_[i] && size[i] >= settings.min_subtree) {
       row[i] = sampled.size();
@@ -407,14 +423,20 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   const int degree = settings.sampling_degree;
   std::size_t samples = 1;
   for (int a = 0; a < dimension; ++a) samples *= static_cast<std::size_t>(degree + 1);
-  std::vector<std::array<double, 3>> points(samples);
+  std::vector<std::array<double, 3>>& points = w.points;
+  points.resize(samples);
   for (std::size_t s = 0; s < samples; ++s) points[s] = ChebyshevPatch::sample_point(box, dimension, degree, s);
-  BatchEvaluator<double> batch(sampler, samples);
+  if (w.batch)
+    w.batch->rebind(sampler, samples);
+  else
+    w.batch = std::make_unique<BatchEvaluator<double>>(sampler, samples);
+  BatchEvaluator<double>& batch = *w.batch;
   batch.evaluate(points.data(), samples);
 
   bool made = false;
   patch_.resize(n);
-  std::vector<double> values(samples);
+  std::vector<double>& values = w.values;
+  values.resize(samples);
   while (!pending.empty()) {
     const std::size_t i = pending.back();
     pending.pop_back();
