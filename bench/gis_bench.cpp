@@ -10,9 +10,11 @@
 // evaluation measured at random grid points and the brute-force time of
 // value and gradient beside it. Baseline in the same run: a single disk.
 //
-// Usage: gis_bench [GEOJSON] [N] [M] [TOLERANCE] [ENLARGEMENT] [SAMPLING_DEGREE]
+// Usage: gis_bench [GEOJSON] [N] [M] [TOLERANCE] [ENLARGEMENT] [SAMPLING_DEGREE] [ONLY]
 //        (defaults 64, 1000, 1e-10, and sage's defaults of Approximation;
-//        TOLERANCE 0 skips the far-field part)
+//        TOLERANCE 0 skips the far-field part, ENLARGEMENT and
+//        SAMPLING_DEGREE 0 keep the defaults; ONLY, e.g. "CSG r0", keeps
+//        the M x M parts to the fields whose names contain it)
 
 #include <sage/evaluator.hpp>
 #include <sage/field_samples.hpp>
@@ -101,6 +103,8 @@ int main(int argc, char** argv) {
   const int n = argc > 2 ? std::stoi(argv[2]) : 64;
   const int m = argc > 3 ? std::stoi(argv[3]) : 1000;
   const double relative_tolerance = argc > 4 ? std::stod(argv[4]) : 1e-10;
+  const std::string only = argc > 7 ? argv[7] : "";
+  auto chosen = [&](const char* name) { return std::string(name).find(only) != std::string::npos; };
 
   auto start = std::chrono::steady_clock::now();
   sage::geometry::LoadOptions options;
@@ -171,6 +175,7 @@ int main(int argc, char** argv) {
   std::printf("\nsage field sampling (value + gradient, pruned tapes) on %dx%d:\n", m, m);
   std::printf("%-16s %14s %14s %14s\n", "field", "1 thread s", "all cores s", "brute est. s");
   for (const auto& [c, field, brute_per_point] : fields) {
+    if (!chosen(c->name)) continue;
     const double brute = brute_per_point * static_cast<double>(big.size());
     // Pruning needs min/max nodes; R-function trees would run whole (hours).
     if (!sage::TapeSpecializer::worthwhile(sage::Tape(field, 2)) && brute > 60) {
@@ -186,8 +191,8 @@ int main(int argc, char** argv) {
   const double diagonal = std::hypot(x1 - x0, y1 - y0);
   sage::Approximation approximation;
   approximation.tolerance = relative_tolerance * diagonal;
-  if (argc > 5) approximation.enlargement = std::stod(argv[5]);
-  if (argc > 6) approximation.sampling_degree = std::stoi(argv[6]);
+  if (argc > 5 && std::stod(argv[5]) > 0) approximation.enlargement = std::stod(argv[5]);
+  if (argc > 6 && std::stoi(argv[6]) > 0) approximation.sampling_degree = std::stoi(argv[6]);
   const std::size_t checks = 2000;
   std::printf(
       "\nwith far-field approximation, tolerance %.0e of the diagonal (%.3g), enlargement %.1f, sampling degree"
@@ -200,6 +205,7 @@ int main(int argc, char** argv) {
   std::printf("%-16s %12s %12s %14s %14s %12s %12s %8s\n", "field", "1 thread s", "all cores s", "brute 1 thr s",
               "speed-up", "max |dw|/D", "max |dgrad|", "signs");
   for (const auto& [c, field, brute_per_point] : fields) {
+    if (!chosen(c->name)) continue;
     sage::FieldSamples samples;
     const double one = sample_grid(field, big, 1, &approximation);
     const double all = sample_grid(field, big, omp_get_max_threads(), &approximation, &samples);

@@ -227,6 +227,39 @@ TEST(Tuple, FirstOrderSqrtAndR0MatchTheGeneralPath) {
   EXPECT_EQ(corner.c[2], 1.0);
 }
 
+TEST(Tuple, FirstOrderRpMatchesTheGeneralPath) {
+  using T1 = Tuple<2, 1>;
+  auto rng = test::make_rng(22);
+  for (int p : {2, 4, 6, 8}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      const double px = test::uniform(rng, -2, 2), py = test::uniform(rng, -2, 2);
+      const double ax = test::uniform(rng, -1, 1), ay = test::uniform(rng, -1, 1);
+      const T1 u1 = T1::variable(0, px) + ax * T1::variable(1, py), v1 = ay * T1::variable(0, px) + T1::variable(1, py);
+      const double u = u1.value(), v = v1.value();
+      for (double sign : {-1.0, 1.0}) {
+        const T1 fast = rp_combine(u1, v1, p, sign);
+        const T1 general = rp_combine<T1>(u1, v1, p, sign);  // the generic template: tuple pow_int, pow_real
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(fast.c[k], general.c[k]) << "p " << p << " coefficient " << k;
+        const double s = std::pow(u, p) + std::pow(v, p);
+        for (int axis = 0; axis < 2; ++axis) {
+          const double du = axis == 0 ? 1.0 : ax, dv = axis == 0 ? ay : 1.0;
+          const double closed =
+              du + dv + sign * std::pow(s, 1.0 / p - 1) * (std::pow(u, p - 1) * du + std::pow(v, p - 1) * dv);
+          EXPECT_NEAR(fast.c[1 + axis], closed, 1e-12 * (1 + std::abs(closed)));
+        }
+      }
+    }
+  }
+  // A zero argument and the corner take the general path's conventions.
+  const T1 zero = rp_combine(T1::variable(0, 0.0), T1::variable(1, 0.5), 4, -1.0);
+  const T1 zero_general = rp_combine<T1>(T1::variable(0, 0.0), T1::variable(1, 0.5), 4, -1.0);
+  const T1 corner = rp_combine(T1::variable(0, 0.0), T1::variable(1, 0.0), 4, -1.0);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(zero.c[k], zero_general.c[k]);
+  EXPECT_EQ(corner.value(), 0.0);
+  EXPECT_EQ(corner.c[1], 1.0);
+  EXPECT_EQ(corner.c[2], 1.0);
+}
+
 // A composite with every kind of operation, smooth on [-1, 1]^2 (the R0
 // arguments stay away from their corner).
 Expr composite_2d() {

@@ -96,12 +96,13 @@ SAGE_ALWAYS_INLINE T apply_op(const Instruction& ins, const T& a, const T& b) {
     return a * ins.p0 + b * ins.p1;
   else if constexpr (op == Op::RAnd || op == Op::ROr) {
     const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
-    // min/max and R0 nodes fill large CSG trees: spare points the general
+    // min/max, R0 and Rp nodes fill large CSG trees: spare points the general
     // call. (Intervals keep it: its end-point rule maps NaN ends to
     // infinities.)
     if constexpr (!std::is_same_v<T, Interval>) {
       if (s.kind == RKind::MinMax) return op == Op::RAnd ? min(a, b) : max(a, b);
       if (s.kind == RKind::R0) return r0_combine(a, b, op == Op::RAnd ? -1.0 : 1.0);
+      if (s.kind == RKind::Rp) return rp_combine(a, b, static_cast<int>(s.parameter), op == Op::RAnd ? -1.0 : 1.0);
     }
     return r_combine(a, b, s, op == Op::RAnd ? -1.0 : 1.0);
   } else if constexpr (op == Op::Const)

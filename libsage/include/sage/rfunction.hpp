@@ -74,6 +74,12 @@ inline T r0_combine(const T& x, const T& y, double sign) {
   return x + y + sign * sqrt(clamp_nonneg(square(x) + square(y)));
 }
 
+/// Rp: x + y -+ (x^p + y^p)^(1/p), p even.
+template <class T>
+inline T rp_combine(const T& x, const T& y, int p, double sign) {
+  return x + y + sign * pow_real(pow_int(x, p) + pow_int(y, p), 1.0 / p);
+}
+
 /// The R-function of the system: sign = -1 conjunction, +1 disjunction.
 template <class T>
 T r_combine(const T& x, const T& y, const RSystem& s, double sign) {
@@ -94,10 +100,7 @@ T r_combine(const T& x, const T& y, const RSystem& s, double sign) {
       const T a = T(1.0) / (T(1.0) + r2);
       return (x + y + sign * sqrt(clamp_nonneg(r2 - T(2.0) * a * (x * y)))) / (T(1.0) + a);
     }
-    case RKind::Rp: {
-      const int p = static_cast<int>(s.parameter);
-      return x + y + sign * pow_real(pow_int(x, p) + pow_int(y, p), 1.0 / p);
-    }
+    case RKind::Rp: return rp_combine(x, y, static_cast<int>(s.parameter), sign);
     case RKind::Rm: {
       const int m = static_cast<int>(s.parameter);
       const T r2 = square(x) + square(y);

@@ -343,6 +343,24 @@ Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) 
   return r;
 }
 
+/// The Rp function x + y -+ (x^p + y^p)^(1/p) of first-order tuples
+/// (rfunction.hpp's rp_combine for every other type): the general path's
+/// arithmetic (the same series coefficients, the same order of operations,
+/// so the same numbers bit for bit) without its tuple temporaries.
+template <int N>
+Tuple<N, 1> rp_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, int p, double sign) {
+  const double x0 = x.c[0], y0 = y.c[0], r = 1.0 / p;
+  const double s0 = sage::pow_int(x0, p) + sage::pow_int(y0, p);
+  if (x0 == 0.0 || y0 == 0.0 || !(s0 > 0.0) || p < 2)  // zero arguments, the corner, NaN
+    return x + y + sign * pow_real(pow_int(x, p) + pow_int(y, p), r);
+  const auto gx = integer_power_series<1>(x0, p), gy = integer_power_series<1>(y0, p);
+  const auto g = power_series<1>(s0, r);
+  Tuple<N, 1> out;
+  out.c[0] = x0 + y0 + sign * g[0];
+  for (int k = 1; k <= N; ++k) out.c[k] = x.c[k] + y.c[k] + sign * (g[1] * (gx[1] * x.c[k] + gy[1] * y.c[k]));
+  return out;
+}
+
 template <int N, int K>
 Tuple<N, K> min(const Tuple<N, K>& a, const Tuple<N, K>& b) {
   if (a.value() < b.value()) return a;
