@@ -91,7 +91,8 @@ class Differentiator {
       case Op::Max: return d(u) + step(v - u) * (d(v) - d(u));
       case Op::RAnd:
       case Op::ROr: return d(expansion(f));
-      case Op::Patch: break;  // tapes only
+      case Op::Patch:
+      case Op::Offset: break;  // tapes only
     }
     throw std::logic_error("derivative: unknown operation");
   }

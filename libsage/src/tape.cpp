@@ -54,6 +54,16 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
     }
     return static_cast<std::uint32_t>(registers_++);
   };
+  // A constant gets its register when something reads it from one (never
+  // reused). Large CSG trees add one constant per halfplane: as offsets
+  // they need none, and batch evaluators do not stream a register of
+  // identical lanes per halfplane through the cache.
+  auto register_of = [&](const Expr& e) -> std::uint32_t {
+    if (e.op() != Op::Const || reg.count(e.id())) return reg.at(e.id());
+    const auto r = static_cast<std::uint32_t>(registers_++);
+    constants_.emplace_back(r, e.constant_value());
+    return reg[e.id()] = r;
+  };
 
   for (std::size_t i = 0; i < order.size(); ++i) {
     const Expr& e = order[i];
@@ -68,15 +78,13 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
         reg[e.id()] = variable_register(v);
         continue;
       }
-      case Op::Const: {
-        const auto r = static_cast<std::uint32_t>(registers_++);  // never reused
-        constants_.emplace_back(r, e.constant_value());
-        reg[e.id()] = r;
-        continue;
-      }
+      case Op::Const: continue;  // register_of() gives it one if read from a register
       default: break;
     }
     Instruction ins{e.op(), 0, 0, 0, e.param(0), e.param(1)};
+    const bool offset =
+        (e.op() == Op::Add || e.op() == Op::Sub) && e.arg(1).op() == Op::Const && e.arg(0).op() != Op::Const;
+    const bool offset_first = e.op() == Op::Add && e.arg(0).op() == Op::Const && e.arg(1).op() != Op::Const;
     if (e.op() == Op::Classify) {
       if (e.classifier()->dimension() != dimension)
         throw std::invalid_argument("a point classifier of dimension " + std::to_string(e.classifier()->dimension()) +
@@ -84,8 +92,14 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
       classifiers_.push_back(e.classifier());
       ins.classifier = e.classifier().get();
     }
-    if (arity(e.op()) >= 1) ins.a = reg.at(e.arg(0).id());
-    if (arity(e.op()) >= 2) ins.b = reg.at(e.arg(1).id());
+    if (offset || offset_first) {
+      // u + c, u - c and c + u: u + p0 (the same numbers, as u - c = u + (-c)).
+      const double c = e.arg(offset ? 1 : 0).constant_value();
+      ins = Instruction{Op::Offset, 0, register_of(e.arg(offset ? 0 : 1)), 0, e.op() == Op::Sub ? -c : c, 0.0};
+    } else {
+      if (arity(e.op()) >= 1) ins.a = register_of(e.arg(0));
+      if (arity(e.op()) >= 2) ins.b = register_of(e.arg(1));
+    }
     // Free the arguments whose last reader is this instruction, then
     // allocate the output: it may take an argument's register, which is
     // safe because every evaluator reads its arguments before writing.
@@ -100,7 +114,7 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
     reg[e.id()] = ins.out;
     code_.push_back(ins);
   }
-  for (const Expr& r : roots) results_.push_back(reg.at(r.id()));
+  for (const Expr& r : roots) results_.push_back(register_of(r));
   link();
 }
 

@@ -4,7 +4,9 @@
 //    second-order tuples, with partial batches (count < width);
 //  - for tapes whose registers are reused (outputs written over arguments)
 //    and that have several roots;
-//  - for tapes with far-field patches (Op::Patch reads the point itself).
+//  - for tapes with far-field patches (Op::Patch reads the point itself);
+//  - for R0 nodes in first-order tuples (r0_lanes.hpp), also at the corner,
+//    at NaN and over batches wider than its chunks.
 
 #include "test_support.hpp"
 
@@ -70,7 +72,22 @@ TEST(BatchEvaluator, EveryOpGivesTheEvaluatorsBits) {
     const Tape tape(c.build(Expr::x(), Expr::y(), Expr::z()), 3);
     expect_batch_equals_evaluator<double>(tape, points, 16);
     expect_batch_equals_evaluator<Tuple<3, 2>>(tape, points, 16);
+    expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 16);
   }
+}
+
+TEST(BatchEvaluator, R0LanesAtTheCornerAndAtNaN) {
+  const Expr x = Expr::x(), y = Expr::y();
+  // The inner node's output register is reused by the outer one (aliasing).
+  const Expr inner = r_and(x, y, RSystem::r0());
+  const Tape tape(std::vector<Expr>{r_or(inner, x - 1.0, RSystem::r0()), r_or(x, y, RSystem::r0())}, 2);
+  Points points = random_points(150, 33, -1, 1);  // wider than the 64-lane chunks
+  points[3] = {0, 0, 0};                          // both corners
+  points[70] = {1, 0, 0};                         // the outer corner: inner = 0, x - 1 = 0
+  points[71] = {std::nan(""), 0.5, 0};
+  points[140] = {0, 0, 0};
+  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 150);
+  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {
@@ -85,6 +102,7 @@ TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {
   const Points points = random_points(100, 32, -1, 1);
   expect_batch_equals_evaluator<double>(tape, points, 64);
   expect_batch_equals_evaluator<Tuple<2, 3>>(tape, points, 7);
+  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
 }
 
 TEST(BatchEvaluator, TapesWithFarFieldPatches) {

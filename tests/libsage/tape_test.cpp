@@ -5,6 +5,8 @@
 //    the reference, at random points in the op's smooth domain (sweep);
 //  - register reuse keeps register_count at the width of the graph, not its
 //    size (a 2000-node chain needs a handful of registers);
+//  - constants added to or subtracted from a value become offsets, with no
+//    register (a 1000-halfplane R0 tree has none), and the same numbers;
 //  - several roots compile together, share subexpressions and give the same
 //    values as separate tapes;
 //  - using a variable beyond the dimension throws.
@@ -13,6 +15,7 @@
 
 #include <sage/derivative.hpp>
 #include <sage/evaluator.hpp>
+#include <sage/rfunction.hpp>
 #include <sage/tape.hpp>
 
 #include <gtest/gtest.h>
@@ -105,8 +108,8 @@ TEST(Tape, RegisterReuseKeepsALongChainNarrow) {
   for (int i = 0; i < 500; ++i) f = sin(f) * 0.9 + y * 0.1 - square(f) * 0.01;  // ~4 nodes per step
   ASSERT_GT(f.node_count(), 1500u);
   const Tape tape(f, 2);
-  // Every constant node keeps a register of its own (loaded once), so count
-  // the working registers: those left for intermediate values.
+  // Every constant read from a register keeps one of its own (loaded once),
+  // so count the working registers: those left for intermediate values.
   const std::size_t working = tape.register_count() - tape.constants().size();
   EXPECT_LE(working, 8u) << "registers: " << tape.register_count() << ", constants: " << tape.constants().size();
   EXPECT_GT(tape.code().size(), 1500u);
@@ -133,6 +136,40 @@ TEST(Tape, RegisterReuseOnAWideBalancedTree) {
   for (int i = 0; i < 1024; ++i) expected += std::sin(0.01 * (i + 1));
   Evaluator<double> ev(tape);
   EXPECT_NEAR(ev.at({0.01, 0, 0}), expected, 1e-10);
+}
+
+TEST(Tape, AddedConstantsAreOffsetsWithoutRegisters) {
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr s = sin(x);
+  const double px = 0.4, sx = std::sin(px);
+  // u + c, u - c, c + u: offsets, exact; c - u reads c from a register.
+  const Expr forms[] = {s + 2.5, s - 2.5, Expr(2.5) + s, Expr(2.5) - s};
+  const double expected[] = {sx + 2.5, sx - 2.5, 2.5 + sx, 2.5 - sx};
+  for (int k = 0; k < 4; ++k) {
+    const Tape tape(forms[k], 2);
+    Evaluator<double> ev(tape);
+    EXPECT_EQ(ev.at({px, 0, 0}), expected[k]) << "form " << k;
+    EXPECT_EQ(tape.code().back().op, k < 3 ? Op::Offset : Op::Sub) << "form " << k;
+    EXPECT_EQ(tape.constants().size(), k < 3 ? 0u : 1u) << "form " << k;
+  }
+  // A polygon-sized tree: 1000 halfplanes n . p - c under R0.
+  const double qx = 0.3, qy = -0.2;
+  std::vector<Expr> halfplanes;
+  std::vector<double> values;
+  for (int i = 0; i < 1000; ++i) {
+    const double angle = 0.5 + 0.00628 * i, c = 1.0 + 0.001 * i;  // no axis-parallel lines
+    halfplanes.push_back(x * std::cos(angle) + y * std::sin(angle) - c);
+    values.push_back(qx * std::cos(angle) + qy * std::sin(angle) - c);
+  }
+  const Tape tape(r_conjunction_n(halfplanes, RSystem::r0()), 2);
+  std::size_t offsets = 0;
+  for (const Instruction& ins : tape.code()) offsets += ins.op == Op::Offset;
+  EXPECT_EQ(offsets, 1000u);
+  EXPECT_EQ(tape.constants().size(), 0u);
+  EXPECT_LE(tape.register_count(), 2u + 16u);
+  const double reference = r_conjunction_n(values, RSystem::r0());
+  Evaluator<double> ev(tape);
+  EXPECT_NEAR(ev.at({qx, qy, 0}), reference, 1e-12 * std::abs(reference));
 }
 
 TEST(Tape, SameArgumentTwiceAndOutputAliasing) {

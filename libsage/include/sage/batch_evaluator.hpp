@@ -16,6 +16,7 @@
 //     double w = batch.result(3).value();             // root 0 at point 3
 
 #include <sage/evaluator.hpp>
+#include <sage/r0_lanes.hpp>
 
 #include <array>
 #include <cstddef>
@@ -57,6 +58,14 @@ class BatchEvaluator {
       T* out = lanes_of(ins.out);
       const T* a = lanes_of(ins.a);
       const T* b = lanes_of(ins.b);
+      // R0 trees of value and gradient: their square roots and divisions
+      // a vector at a time (the same numbers).
+      if constexpr (detail::IsFirstOrderTuple<T>::value) {
+        if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
+          r0_combine_lanes(a, b, out, count, ins.op == Op::RAnd ? -1.0 : 1.0);
+          continue;
+        }
+      }
       // Elementwise, so an output register shared with an argument is safe.
       visit_op(ins.op, [&](auto op) {
         for (std::size_t l = 0; l < count; ++l) out[l] = apply_op<decltype(op)::value>(ins, a[l], b[l]);

@@ -37,6 +37,7 @@ namespace sage {
   X(Min,     35, "min",      2)                                                  \
   X(Max,     36, "max",      2)                                                  \
   X(Axpby,   37, "axpby",    2) /* p0 a + p1 b: halfplanes in two instructions */ \
+  X(Offset,  38, "offset",   1) /* tapes only: a + p0, a constant added without its register */ \
   X(RAnd,    50, "r_and",    2) /* R-conjunction; p0, p1 = RSystem */            \
   X(ROr,     51, "r_or",     2) /* R-disjunction; p0, p1 = RSystem */          \
   X(Classify, 60, "classify", 0) /* point membership, +1 / 0 / -1 */          \
@@ -93,8 +94,9 @@ constexpr decltype(auto) visit_op(Op op, F&& f) {
 }
 
 /// Operations that appear in tapes only, never in expression graphs: the
-/// far-field approximation (tape_specialization.hpp) puts them there.
-constexpr bool tape_only(Op op) { return op == Op::Patch; }
+/// far-field approximation (tape_specialization.hpp) puts patches there,
+/// and compiling (tape.hpp) turns additions of constants into offsets.
+constexpr bool tape_only(Op op) { return op == Op::Patch || op == Op::Offset; }
 
 /// Every operation, for sweeps in tests and tools.
 constexpr Op kAllOps[] = {

@@ -1,0 +1,53 @@
+// Compiled without errno (libsage/CMakeLists.txt): sqrt then needs no
+// library call for negative arguments, so the compiler runs the roots and
+// the divisions of several lanes in one vector instruction. The arithmetic
+// is tuple.hpp's r0_combine, operation for operation.
+
+#include <sage/r0_lanes.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace sage {
+namespace {
+
+template <int N>
+void combine_lanes(const Tuple<N, 1>* x, const Tuple<N, 1>* y, Tuple<N, 1>* out, std::size_t count, double sign) {
+  constexpr std::size_t kChunk = 64;
+  double r2[kChunk], root[kChunk], slope[kChunk];
+  for (std::size_t start = 0; start < count; start += kChunk) {
+    const std::size_t n = std::min(kChunk, count - start);
+    const Tuple<N, 1>* xs = x + start;
+    const Tuple<N, 1>* ys = y + start;
+    Tuple<N, 1>* outs = out + start;
+    for (std::size_t l = 0; l < n; ++l) r2[l] = xs[l].c[0] * xs[l].c[0] + ys[l].c[0] * ys[l].c[0];
+    for (std::size_t l = 0; l < n; ++l) {
+      const double r = r2[l] > 0.0 ? r2[l] : 1.0;  // corner and NaN lanes are redone below
+      root[l] = std::sqrt(r);
+      slope[l] = sign * root[l] * 0.5 / r;
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      if (!(r2[l] > 0.0)) {
+        outs[l] = r0_combine(xs[l], ys[l], sign);
+        continue;
+      }
+      const double x0 = xs[l].c[0], y0 = ys[l].c[0];
+      Tuple<N, 1> r;
+      r.c[0] = x0 + y0 + sign * root[l];
+      for (int k = 1; k <= N; ++k)
+        r.c[k] = xs[l].c[k] + ys[l].c[k] + slope[l] * (2.0 * x0 * xs[l].c[k] + 2.0 * y0 * ys[l].c[k]);
+      outs[l] = r;
+    }
+  }
+}
+
+}  // namespace
+
+void r0_combine_lanes(const Tuple<2, 1>* x, const Tuple<2, 1>* y, Tuple<2, 1>* out, std::size_t count, double sign) {
+  combine_lanes(x, y, out, count, sign);
+}
+void r0_combine_lanes(const Tuple<3, 1>* x, const Tuple<3, 1>* y, Tuple<3, 1>* out, std::size_t count, double sign) {
+  combine_lanes(x, y, out, count, sign);
+}
+
+}  // namespace sage
