@@ -1,7 +1,8 @@
 // Compiled without errno (libsage/CMakeLists.txt): sqrt then needs no
 // library call for negative arguments, so the compiler runs the roots and
 // the divisions of several lanes in one vector instruction. The arithmetic
-// is tuple.hpp's r0_combine, operation for operation.
+// is tuple.hpp's r0_combine, operation for operation (detail::r0_from_root
+// finishes both).
 
 #include <sage/r0_lanes.hpp>
 
@@ -26,18 +27,9 @@ void combine_lanes(const Tuple<N, 1>* x, const Tuple<N, 1>* y, Tuple<N, 1>* out,
       root[l] = std::sqrt(r);
       slope[l] = sign * root[l] * 0.5 / r;
     }
-    for (std::size_t l = 0; l < n; ++l) {
-      if (!(r2[l] > 0.0)) {
-        outs[l] = r0_combine(xs[l], ys[l], sign);
-        continue;
-      }
-      const double x0 = xs[l].c[0], y0 = ys[l].c[0];
-      Tuple<N, 1> r;
-      r.c[0] = x0 + y0 + sign * root[l];
-      for (int k = 1; k <= N; ++k)
-        r.c[k] = xs[l].c[k] + ys[l].c[k] + slope[l] * (2.0 * x0 * xs[l].c[k] + 2.0 * y0 * ys[l].c[k]);
-      outs[l] = r;
-    }
+    for (std::size_t l = 0; l < n; ++l)
+      outs[l] =
+          r2[l] > 0.0 ? detail::r0_from_root(xs[l], ys[l], sign, root[l], slope[l]) : r0_combine(xs[l], ys[l], sign);
   }
 }
 

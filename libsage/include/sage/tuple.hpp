@@ -332,15 +332,26 @@ Tuple<N, K> clamp_nonneg(const Tuple<N, K>& a) {
 /// and gradient; rfunction.hpp's r0_combine for every other type): R0
 /// trees spend most of their time here. The value is the double
 /// evaluator's, bit for bit.
+namespace detail {
+/// R0 of first-order tuples off the corner, given root = sqrt(x0^2 + y0^2)
+/// and slope = sign * root * 0.5 / (x0^2 + y0^2) (r0_lanes.cpp computes
+/// these a vector at a time).
 template <int N>
-Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) {
-  const double x0 = x.c[0], y0 = y.c[0], r2 = x0 * x0 + y0 * y0;
-  if (!(r2 > 0.0)) return x + y + sign * sqrt(clamp_nonneg(x * x + y * y));  // the corner (or NaN)
-  const double root = std::sqrt(r2), slope = sign * root * 0.5 / r2;
+Tuple<N, 1> r0_from_root(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign, double root, double slope) {
+  const double x0 = x.c[0], y0 = y.c[0];
   Tuple<N, 1> r;
   r.c[0] = x0 + y0 + sign * root;
   for (int k = 1; k <= N; ++k) r.c[k] = x.c[k] + y.c[k] + slope * (2.0 * x0 * x.c[k] + 2.0 * y0 * y.c[k]);
   return r;
+}
+}  // namespace detail
+
+template <int N>
+Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) {
+  const double x0 = x.c[0], y0 = y.c[0], r2 = x0 * x0 + y0 * y0;
+  if (!(r2 > 0.0)) return x + y + sign * sqrt(clamp_nonneg(x * x + y * y));  // the corner (or NaN)
+  const double root = std::sqrt(r2);
+  return detail::r0_from_root(x, y, sign, root, sign * root * 0.5 / r2);
 }
 
 /// The Rp function x + y -+ (x^p + y^p)^(1/p) of first-order tuples
