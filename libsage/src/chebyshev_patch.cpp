@@ -1,8 +1,10 @@
 #include <sage/chebyshev_patch.hpp>
+#include <sage/tuple.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 namespace sage {
 
@@ -110,6 +112,132 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   }
   return patch;
 }
+
+/// For each x degree i, the sum over the other degrees at one (y, z),
+/// e[i], and its derivatives in v = u_y, ev[i], and w = u_z, ew[i]:
+/// evaluate_first_order's inner (2D) or middle (3D) sums.
+struct ChebyshevPatch::RowFactors {
+  static constexpr int kMaxDegree = 16;
+  double e[kMaxDegree + 1], ev[kMaxDegree + 1], ew[kMaxDegree + 1];
+};
+
+namespace {
+
+/// T_0..T_d and their derivatives at u (evaluate_first_order's recurrence).
+void basis_with_derivative(double u, int d, double* t, double* dt) {
+  t[0] = 1.0;
+  dt[0] = 0.0;
+  if (d >= 1) t[1] = u, dt[1] = 1.0;
+  for (int k = 2; k <= d; ++k) {
+    t[k] = 2.0 * u * t[k - 1] - t[k - 2];
+    dt[k] = 2.0 * t[k - 1] + 2.0 * u * dt[k - 1] - dt[k - 2];
+  }
+}
+
+}  // namespace
+
+template <class T>
+void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                                   std::size_t row_count, const T* const* vars, T* out) const {
+  constexpr bool kGradient = !std::is_same_v<T, double>;
+  constexpr std::size_t kChunk = 64;  // points of a row per pass
+  constexpr int kMaxDegree = RowFactors::kMaxDegree;
+  const int d = degree_;
+  double t0[kMaxDegree + 1][kChunk], dt0[kMaxDegree + 1][kChunk];
+  double sum[kChunk], p0[kChunk], p1[kChunk], p2[kChunk];
+  for (std::size_t first = 0; first < nx; first += kChunk) {
+    const std::size_t n = std::min(kChunk, nx - first);
+    // The basis in x, shared by every row.
+    double u[kChunk];
+    for (std::size_t l = 0; l < n; ++l) {
+      u[l] = (xs[first + l] - centre_[0]) * inverse_half_[0];
+      t0[0][l] = 1.0;
+      dt0[0][l] = 0.0;
+      if (d >= 1) t0[1][l] = u[l], dt0[1][l] = 1.0;
+    }
+    for (int k = 2; k <= d; ++k)
+      for (std::size_t l = 0; l < n; ++l) {
+        t0[k][l] = 2.0 * u[l] * t0[k - 1][l] - t0[k - 2][l];
+        dt0[k][l] = 2.0 * t0[k - 1][l] + 2.0 * u[l] * dt0[k - 1][l] - dt0[k - 2][l];
+      }
+    for (std::size_t r = 0; r < row_count; ++r) {
+      const RowFactors f = row_factors(rows[r]);
+      for (std::size_t l = 0; l < n; ++l) sum[l] = p0[l] = p1[l] = p2[l] = 0.0;
+      for (int i = 0; i <= d; ++i)
+        for (std::size_t l = 0; l < n; ++l) {
+          sum[l] = sum[l] + f.e[i] * t0[i][l];
+          if constexpr (kGradient) {
+            p0[l] += f.e[i] * dt0[i][l];
+            p1[l] += f.ev[i] * t0[i][l];
+            p2[l] += f.ew[i] * t0[i][l];
+          }
+        }
+      for (std::size_t l = 0; l < n; ++l) {
+        const std::size_t p = r * nx + first + l;
+        if constexpr (kGradient) {
+          T result(sum[l]);
+          const double partial[3] = {p0[l], p1[l], p2[l]};
+          for (int a = 0; a < dimension_; ++a) {
+            const double scale = partial[a] * inverse_half_[a];
+            for (std::size_t q = 1; q < result.c.size(); ++q) result.c[q] += scale * vars[a][p].c[q];
+          }
+          out[p] = result;
+        } else {
+          out[p] = sum[l];
+        }
+      }
+    }
+  }
+}
+
+ChebyshevPatch::RowFactors ChebyshevPatch::row_factors(const std::array<double, 2>& row) const {
+  constexpr int kMaxDegree = RowFactors::kMaxDegree;
+  const int d = degree_;
+  RowFactors f;
+  const double* c = coefficients_.data();
+  if (dimension_ == 1) {
+    for (int i = 0; i <= d; ++i) f.e[i] = c[i], f.ev[i] = f.ew[i] = 0.0;
+    return f;
+  }
+  double t1[kMaxDegree + 1], dt1[kMaxDegree + 1], t2[kMaxDegree + 1], dt2[kMaxDegree + 1];
+  basis_with_derivative((row[0] - centre_[1]) * inverse_half_[1], d, t1, dt1);
+  if (dimension_ == 2) {
+    for (int i = 0; i <= d; ++i) {
+      double inner = 0.0, inner_v = 0.0;
+      for (int j = 0; j <= d - i; ++j, ++c) {
+        inner = inner + *c * t1[j];
+        inner_v += *c * dt1[j];
+      }
+      f.e[i] = inner, f.ev[i] = inner_v, f.ew[i] = 0.0;
+    }
+    return f;
+  }
+  basis_with_derivative((row[1] - centre_[2]) * inverse_half_[2], d, t2, dt2);
+  for (int i = 0; i <= d; ++i) {
+    double middle = 0.0, middle_v = 0.0, middle_w = 0.0;
+    for (int j = 0; j <= d - i; ++j) {
+      double inner = 0.0, inner_w = 0.0;
+      for (int k = 0; k <= d - i - j; ++k, ++c) {
+        inner = inner + *c * t2[k];
+        inner_w += *c * dt2[k];
+      }
+      middle = middle + inner * t1[j];
+      middle_v += inner * dt1[j];
+      middle_w += inner_w * t1[j];
+    }
+    f.e[i] = middle, f.ev[i] = middle_v, f.ew[i] = middle_w;
+  }
+  return f;
+}
+
+template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
+                                            const double* const*, double*) const;
+template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
+                                            const Tuple<1, 1>* const*, Tuple<1, 1>*) const;
+template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
+                                            const Tuple<2, 1>* const*, Tuple<2, 1>*) const;
+template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
+                                            const Tuple<3, 1>* const*, Tuple<3, 1>*) const;
 
 namespace detail {
 

@@ -50,7 +50,8 @@ struct TapeSpecializer::Scratch {
   std::vector<std::size_t> size, row, sampled, pending;
   std::vector<char> read_by_analytic;
   std::vector<std::array<std::uint32_t, 2>> read;
-  std::vector<std::array<double, 3>> points;
+  std::vector<double> xs;  // the samples: xs x rows
+  std::vector<std::array<double, 2>> rows;
   std::vector<double> values;
   std::unique_ptr<BatchEvaluator<double>> batch;
 };
@@ -423,15 +424,23 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   const int degree = settings.sampling_degree;
   std::size_t samples = 1;
   for (int a = 0; a < dimension; ++a) samples *= static_cast<std::size_t>(degree + 1);
-  std::vector<std::array<double, 3>>& points = w.points;
-  points.resize(samples);
-  for (std::size_t s = 0; s < samples; ++s) points[s] = ChebyshevPatch::sample_point(box, dimension, degree, s);
+  // The samples are a tensor grid: rows of m = degree + 1 points in x.
+  const std::size_t m = static_cast<std::size_t>(degree + 1);
+  std::vector<double>& xs = w.xs;
+  std::vector<std::array<double, 2>>& rows = w.rows;
+  xs.resize(m);
+  rows.resize(samples / m);
+  for (std::size_t i = 0; i < m; ++i) xs[i] = ChebyshevPatch::sample_point(box, dimension, degree, i)[0];
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::array<double, 3> p = ChebyshevPatch::sample_point(box, dimension, degree, r * m);
+    rows[r] = {p[1], p[2]};
+  }
   if (w.batch)
     w.batch->rebind(sampler, samples);
   else
     w.batch = std::make_unique<BatchEvaluator<double>>(sampler, samples);
   BatchEvaluator<double>& batch = *w.batch;
-  batch.evaluate(points.data(), samples);
+  batch.evaluate_rows(xs.data(), m, rows.data(), rows.size());
 
   bool made = false;
   patch_.resize(n);

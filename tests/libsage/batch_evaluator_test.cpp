@@ -4,7 +4,8 @@
 //    second-order tuples, with partial batches (count < width);
 //  - for tapes whose registers are reused (outputs written over arguments)
 //    and that have several roots;
-//  - for tapes with far-field patches (Op::Patch reads the point itself);
+//  - for tapes with far-field patches (Op::Patch reads the point itself),
+//    also over grid rows (evaluate_rows, where patches run a row at a time);
 //  - for R0 nodes in first-order tuples (r0_lanes.hpp), also at the corner,
 //    at NaN and over batches wider than its chunks.
 
@@ -124,6 +125,32 @@ TEST(BatchEvaluator, TapesWithFarFieldPatches) {
   Points points = random_points(50, 33, -0.5, 0.5);
   for (auto& p : points) p = {10 + p[0], p[1], 0};
   expect_batch_equals_evaluator<Tuple<2, 1>>(*near, points, 32);
+
+  // Over grid rows: 5 rows of 7 points, the points of a grid block.
+  std::vector<double> xs;
+  std::vector<std::array<double, 2>> rows;
+  for (int i = 0; i < 7; ++i) xs.push_back(9.6 + 0.13 * i);
+  for (int r = 0; r < 5; ++r) rows.push_back({-0.4 + 0.17 * r, 0.0});
+  Points grid;
+  for (const auto& row : rows)
+    for (double x : xs) grid.push_back({x, row[0], 0});
+  auto expect_rows = [&]<class T>(T) {
+    BatchEvaluator<T> batch(*near, grid.size());
+    batch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size());
+    Evaluator<T> single(*near);
+    for (std::size_t p = 0; p < grid.size(); ++p) {
+      single.evaluate(grid[p].data());
+      const std::string where = "grid point " + std::to_string(p);
+      if constexpr (std::is_same_v<T, double>) {
+        expect_same(batch.result(p), single.result(), where);
+      } else {
+        for (int c = 0; c < T::size; ++c) expect_same(batch.result(p).c[c], single.result().c[c], where);
+      }
+    }
+  };
+  expect_rows(0.0);
+  expect_rows(Tuple<2, 1>());
+  expect_rows(Tuple<2, 2>());  // no row path for patches: point by point
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Chebyshev patches and far-field approximation: polynomials are fitted
 // exactly; analytic fields within the stated tail; kinks are refused;
 // interval evaluation encloses the patch; tuples give the patch's exact
-// derivatives; and approximated grid sampling of a large R0 tree stays
+// derivatives, also a grid row at a time; and approximated grid sampling of a large R0 tree stays
 // within its tolerance of exact evaluation, with far boxes reduced to a
 // single patch.
 
@@ -83,24 +83,35 @@ TEST(ChebyshevPatch, AnalyticFieldsWithinTheirTail) {
   }
 }
 
+// A box of `dimension` axes of different widths, and a patch of a smooth
+// field over it (sampling degree 10, tail 1e-3).
+Box test_box(int dimension) {
+  Box box{Interval(0.0), Interval(0.0), Interval(0.0)};
+  for (int a = 0; a < dimension; ++a) box[a] = Interval(-1.0 + 0.5 * a, 1.5 + a);
+  return box;
+}
+
+std::shared_ptr<const ChebyshevPatch> fit_smooth(const Box& box, int dimension) {
+  const int n = 10;
+  std::size_t samples = 1;
+  for (int a = 0; a < dimension; ++a) samples *= n + 1;
+  std::vector<double> values(samples);
+  for (std::size_t k = 0; k < samples; ++k) {
+    const auto p = ChebyshevPatch::sample_point(box.data(), dimension, n, k);
+    values[k] = std::exp(0.3 * p[0]) * std::cos(p[1] + 0.5 * p[2]) + p[0] * p[1];
+  }
+  return ChebyshevPatch::fit(box.data(), dimension, n, values, 1e-3);
+}
+
 // Grid sampling asks patches for value and gradient (first-order tuples),
 // which take a path of their own: the series and its partials in doubles.
 // It must agree with the general tuple path, and through the chain rule
 // also for inputs that are not the coordinates themselves.
 TEST(ChebyshevPatch, FirstOrderTuplesMatchTheGeneralPath) {
-  auto f = [](const std::array<double, 3>& p) {
-    return std::exp(0.3 * p[0]) * std::cos(p[1] + 0.5 * p[2]) + p[0] * p[1];
-  };
   auto rng = test::make_rng(11);
   for (int dimension = 1; dimension <= 3; ++dimension) {
-    Box box{Interval(0.0), Interval(0.0), Interval(0.0)};
-    for (int a = 0; a < dimension; ++a) box[a] = Interval(-1.0 + 0.5 * a, 1.5 + a);
-    const int n = 10;
-    std::size_t samples = 1;
-    for (int a = 0; a < dimension; ++a) samples *= n + 1;
-    std::vector<double> values(samples);
-    for (std::size_t k = 0; k < samples; ++k) values[k] = f(ChebyshevPatch::sample_point(box.data(), dimension, n, k));
-    const auto patch = ChebyshevPatch::fit(box.data(), dimension, n, values, 1e-3);
+    const Box box = test_box(dimension);
+    const auto patch = fit_smooth(box, dimension);
     ASSERT_TRUE(patch);
     ASSERT_GE(patch->degree(), 3);
     for (int trial = 0; trial < 100; ++trial) {
@@ -123,6 +134,54 @@ TEST(ChebyshevPatch, FirstOrderTuplesMatchTheGeneralPath) {
       EXPECT_NEAR(a.derivative({1, 0}), b.derivative({1, 0}), 1e-11);
       EXPECT_NEAR(a.derivative({0, 1}), b.derivative({0, 1}), 1e-11);
     }
+  }
+}
+
+// evaluate_rows() is evaluate() at each point of the tensor grid, bit for
+// bit, in doubles and in first-order tuples (whose variables here carry a
+// gradient other than the unit seeds), with rows longer than its chunks.
+template <int N>
+void expect_rows_match_points(const ChebyshevPatch& patch, const Box& box, std::uint64_t seed) {
+  auto rng = test::make_rng(seed);
+  std::vector<double> xs(70);  // more than one pass of 64
+  for (double& x : xs) x = test::uniform(rng, box[0].lo, box[0].hi);
+  std::vector<std::array<double, 2>> rows(N == 1 ? 1 : 4);
+  for (auto& row : rows) row = {test::uniform(rng, box[1].lo, box[1].hi), test::uniform(rng, box[2].lo, box[2].hi)};
+  const std::size_t count = xs.size() * rows.size();
+  std::vector<Tuple<N, 1>> vars[3], out(count);
+  std::vector<double> values(count);
+  for (int a = 0; a < N; ++a) vars[a].resize(count);
+  for (std::size_t p = 0; p < count; ++p) {
+    const double coordinates[3] = {xs[p % xs.size()], rows[p / xs.size()][0], rows[p / xs.size()][1]};
+    for (int a = 0; a < N; ++a) {
+      vars[a][p] = Tuple<N, 1>::variable(a, coordinates[a]);
+      vars[a][p].c[1] += 0.25 * (a + 1);  // a gradient that is not a unit seed
+    }
+  }
+  const Tuple<N, 1>* var_lanes[3] = {vars[0].data(), N > 1 ? vars[1].data() : nullptr,
+                                     N > 2 ? vars[2].data() : nullptr};
+  const double* no_vars[3] = {nullptr, nullptr, nullptr};
+  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), var_lanes, out.data());
+  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), no_vars, values.data());
+  for (std::size_t p = 0; p < count; ++p) {
+    Tuple<N, 1> point[N];
+    double coordinates[N];
+    for (int a = 0; a < N; ++a) point[a] = vars[a][p], coordinates[a] = point[a].value();
+    const Tuple<N, 1> expected = patch.evaluate(point);
+    for (int c = 0; c <= N; ++c) ASSERT_EQ(out[p].c[c], expected.c[c]) << "point " << p << " coefficient " << c;
+    ASSERT_EQ(values[p], patch.evaluate(coordinates)) << "point " << p;
+  }
+}
+
+TEST(ChebyshevPatch, RowsMatchPointByPoint) {
+  for (int dimension = 1; dimension <= 3; ++dimension) {
+    const Box box = test_box(dimension);
+    const auto patch = fit_smooth(box, dimension);
+    ASSERT_TRUE(patch);
+    ASSERT_GE(patch->degree(), 3);
+    if (dimension == 1) expect_rows_match_points<1>(*patch, box, 21);
+    if (dimension == 2) expect_rows_match_points<2>(*patch, box, 22);
+    if (dimension == 3) expect_rows_match_points<3>(*patch, box, 23);
   }
 }
 

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace sage {
@@ -50,27 +51,24 @@ class BatchEvaluator {
       T* lanes = lanes_of(static_cast<std::uint32_t>(v));
       for (std::size_t l = 0; l < count; ++l) lanes[l] = Seed<T>::variable(v, points[l][v]);
     }
-    for (const Instruction& ins : tape_->code()) {
-      if (ins.op == Op::Classify || ins.op == Op::Patch) {
-        run_pointwise(ins);
-        continue;
-      }
-      T* out = lanes_of(ins.out);
-      const T* a = lanes_of(ins.a);
-      const T* b = lanes_of(ins.b);
-      // R0 trees of value and gradient: their square roots and divisions
-      // a vector at a time (the same numbers).
-      if constexpr (detail::IsFirstOrderTuple<T>::value) {
-        if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
-          r0_combine_lanes(a, b, out, count, ins.op == Op::RAnd ? -1.0 : 1.0);
-          continue;
-        }
-      }
-      // Elementwise, so an output register shared with an argument is safe.
-      visit_op(ins.op, [&](auto op) {
-        for (std::size_t l = 0; l < count; ++l) out[l] = apply_op<decltype(op)::value>(ins, a[l], b[l]);
-      });
+    run(nullptr);
+  }
+
+  /// Evaluates every root at the grid points xs[0..nx) x rows[0..row_count)
+  /// (nx * row_count <= width()): point p = r * nx + i lies at (xs[i],
+  /// rows[r][0], rows[r][1]). The same numbers as evaluate() at those
+  /// points; far-field patches run a row at a time (ChebyshevPatch::
+  /// evaluate_rows), about five times cheaper than point by point.
+  void evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count) {
+    count_ = nx * row_count;
+    for (int v = 0; v < tape_->dimension(); ++v) {
+      T* lanes = lanes_of(static_cast<std::uint32_t>(v));
+      for (std::size_t r = 0; r < row_count; ++r)
+        for (std::size_t i = 0; i < nx; ++i)
+          lanes[r * nx + i] = Seed<T>::variable(v, v == 0 ? xs[i] : rows[r][static_cast<std::size_t>(v - 1)]);
     }
+    const Rows layout{xs, nx, rows, row_count};
+    run(&layout);
   }
 
   /// Root `root` at point `lane` of the last batch.
@@ -92,6 +90,49 @@ class BatchEvaluator {
 
  private:
   T* lanes_of(std::uint32_t r) { return regs_.data() + static_cast<std::size_t>(r) * width_; }
+
+  // evaluate_rows()'s points.
+  struct Rows {
+    const double* xs;
+    std::size_t nx;
+    const std::array<double, 2>* rows;
+    std::size_t row_count;
+  };
+  static constexpr bool kRowPatches = std::is_same_v<T, double> || detail::IsFirstOrderTuple<T>::value;
+
+  // Every instruction at the count_ seeded points.
+  void run(const Rows* layout) {
+    const std::size_t count = count_;
+    for (const Instruction& ins : tape_->code()) {
+      if constexpr (kRowPatches) {
+        if (ins.op == Op::Patch && layout) {
+          const T* vars[3] = {nullptr, nullptr, nullptr};
+          for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
+          ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, vars, lanes_of(ins.out));
+          continue;
+        }
+      }
+      if (ins.op == Op::Classify || ins.op == Op::Patch) {
+        run_pointwise(ins);
+        continue;
+      }
+      T* out = lanes_of(ins.out);
+      const T* a = lanes_of(ins.a);
+      const T* b = lanes_of(ins.b);
+      // R0 trees of value and gradient: their square roots and divisions
+      // a vector at a time (the same numbers).
+      if constexpr (detail::IsFirstOrderTuple<T>::value) {
+        if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
+          r0_combine_lanes(a, b, out, count, ins.op == Op::RAnd ? -1.0 : 1.0);
+          continue;
+        }
+      }
+      // Elementwise, so an output register shared with an argument is safe.
+      visit_op(ins.op, [&](auto op) {
+        for (std::size_t l = 0; l < count; ++l) out[l] = apply_op<decltype(op)::value>(ins, a[l], b[l]);
+      });
+    }
+  }
 
   // Classifiers and patches read the point's variables: gather them per lane.
   void run_pointwise(const Instruction& ins) {

@@ -70,6 +70,18 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   template <class T>
   T evaluate(const T* vars) const;
 
+  /// The polynomial at the tensor points xs[0..nx) x rows[0..row_count):
+  /// point p = r * nx + i lies at (xs[i], rows[r][0], rows[r][1]), and
+  /// out[p] is evaluate() there, the same numbers bit for bit (the same
+  /// operations in the same order). Grid blocks and fit samples are such
+  /// grids: the factors in y and z are summed once per row and the basis in
+  /// x once for all rows, about five times less work than point by point.
+  /// T is double or a first-order tuple; for tuples, vars[a][p] is variable
+  /// a at point p, which carries the gradient through as in evaluate().
+  template <class T>
+  void evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count,
+                     const T* const* vars, T* out) const;
+
  private:
   ChebyshevPatch() = default;
 
@@ -78,6 +90,10 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   // the chain rule to the tuple's variables; the value as evaluate<double>.
   template <class T>
   T evaluate_first_order(const T* vars) const;
+
+  // evaluate_rows()'s sums over the y and z degrees at one row.
+  struct RowFactors;
+  RowFactors row_factors(const std::array<double, 2>& row) const;
 
   int dimension_ = 2;
   int degree_ = 0;

@@ -172,8 +172,9 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
 #pragma omp taskwait
     return;
   }
-  // The block's points, in batches run by this thread's BatchEvaluator
-  // (leaves spawn no tasks, so nothing else uses it meanwhile).
+  // The block's points, a few grid rows per batch run by this thread's
+  // BatchEvaluator (leaves spawn no tasks, so nothing else uses it
+  // meanwhile): rows, so that patches sum their y and z factors once per row.
   thread_local std::unique_ptr<BatchEvaluator<T>> reused;
   const std::size_t width = std::min(block.size(), kBatchPoints);
   if (reused)
@@ -181,23 +182,33 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
   else
     reused = std::make_unique<BatchEvaluator<T>>(tape, width);
   BatchEvaluator<T>& batch = *reused;
-  std::array<std::size_t, kBatchPoints> index{};
-  std::array<std::array<double, 3>, kBatchPoints> point{};
-  std::size_t count = 0;
-  auto flush = [&] {
-    batch.evaluate(point.data(), count);
-    for (std::size_t l = 0; l < count; ++l) visit(index[l], batch.point(l));
-    count = 0;
-  };
-  const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
-  for (int k = block.lo[2]; k < block.hi[2]; ++k)
-    for (int j = block.lo[1]; j < block.hi[1]; ++j)
-      for (int i = block.lo[0]; i < block.hi[0]; ++i) {
-        index[count] = static_cast<std::size_t>(i) + nx * (static_cast<std::size_t>(j) + ny * k);
-        point[count] = grid.point(index[count]);
-        if (++count == kBatchPoints) flush();
+  const std::size_t nx_grid = static_cast<std::size_t>(grid.points[0]),
+                    ny_grid = static_cast<std::size_t>(grid.points[1]);
+  const std::size_t chunk = std::min(static_cast<std::size_t>(block.hi[0] - block.lo[0]), kBatchPoints);
+  const std::size_t rows_per_batch = kBatchPoints / chunk;
+  std::array<double, kBatchPoints> xs{};
+  std::array<std::array<double, 2>, kBatchPoints> rows{};
+  std::array<std::size_t, kBatchPoints> row_start{};  // grid index of each row's first point
+  for (std::size_t first = static_cast<std::size_t>(block.lo[0]); first < static_cast<std::size_t>(block.hi[0]);
+       first += chunk) {
+    const std::size_t nx = std::min(chunk, static_cast<std::size_t>(block.hi[0]) - first);
+    for (std::size_t i = 0; i < nx; ++i) xs[i] = grid.point(first + i)[0];
+    std::size_t count = 0;
+    auto flush = [&] {
+      batch.evaluate_rows(xs.data(), nx, rows.data(), count);
+      for (std::size_t r = 0; r < count; ++r)
+        for (std::size_t i = 0; i < nx; ++i) visit(row_start[r] + i, batch.point(r * nx + i));
+      count = 0;
+    };
+    for (int k = block.lo[2]; k < block.hi[2]; ++k)
+      for (int j = block.lo[1]; j < block.hi[1]; ++j) {
+        row_start[count] = first + nx_grid * (static_cast<std::size_t>(j) + ny_grid * static_cast<std::size_t>(k));
+        const std::array<double, 3> p = grid.point(row_start[count]);
+        rows[count] = {p[1], p[2]};
+        if (++count == rows_per_batch) flush();
       }
-  if (count > 0) flush();
+    if (count > 0) flush();
+  }
   const std::size_t total = done.fetch_add(block.size()) + block.size();
 #ifdef _OPENMP
   if (omp_get_thread_num() != 0) return;  // Progress is called from one thread

@@ -59,7 +59,7 @@ struct Approximation {
   double tolerance = 0;          // absolute tail allowed per patch (field units)
   double enlargement = 3;        // singular sets must be this many half-diagonals from the box centre
   int sampling_degree = 12;      // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
-  std::size_t min_subtree = 48;  // smaller subtrees are cheaper to run than a patch
+  std::size_t min_subtree = 16;  // smaller subtrees are cheaper to run than a patch (a row at a time)
 };
 
 class TapeSpecializer {
