@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <type_traits>
 
@@ -17,6 +18,40 @@ std::array<double, 3> ChebyshevPatch::sample_point(const Interval* box, int dime
   }
   return p;
 }
+
+namespace {
+
+/// Whether the samples on some line of nodes, along any axis, have a 1D
+/// interpolant with |b_{n-1}| + |b_n| > tolerance: then the fit must fail,
+/// and this costs about a sixth of a 2D fit (far-field approximation
+/// tries many fits that fail). Why: along axis a, b_i is the sum over the
+/// other indices of c_alpha times T at their nodes, and |T| <= 1, so for
+/// every d <= n - 2, |b_{n-1}| + |b_n| <= sum_{alpha_a > d} |c_alpha| <=
+/// the tail of total degree d. The margin covers both sums' rounding.
+/// t[i * m + k] is T_i at node k.
+bool lines_exceed_tail(const std::vector<double>& f, int dimension, int n, const std::vector<double>& t,
+                       double tolerance) {
+  const std::size_t m = static_cast<std::size_t>(n + 1), total = f.size();
+  double largest = 0;
+  for (double v : f) largest = std::max(largest, std::abs(v));
+  const double margin = 16.0 * static_cast<double>(total * m) * std::numeric_limits<double>::epsilon() * largest;
+  const double* high = &t[static_cast<std::size_t>(n - 1) * m];  // T_{n-1}, then T_n, at the nodes
+  std::size_t stride = 1;
+  for (int a = 0; a < dimension; ++a, stride *= m)
+    for (std::size_t outer = 0; outer < total; outer += stride * m)
+      for (std::size_t inner = 0; inner < stride; ++inner) {
+        const double* line = &f[outer + inner];
+        double s1 = 0, s2 = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+          s1 += line[k * stride] * high[k];
+          s2 += line[k * stride] * high[m + k];
+        }
+        if ((std::abs(s1) + std::abs(s2)) * 2.0 / static_cast<double>(m) > tolerance + margin) return true;
+      }
+  return false;
+}
+
+}  // namespace
 
 std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, int dimension, int n,
                                                           const std::vector<double>& f, double tolerance) {
@@ -42,6 +77,8 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
                                 static_cast<double>(m));
     t_size = m;
   }
+
+  if (lines_exceed_tail(f, dimension, n, t, tolerance)) return nullptr;
 
   // The discrete Chebyshev transform along each axis in turn, line by line
   // (a line: the m values whose indices differ in axis a only).
@@ -114,8 +151,8 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
 }
 
 /// For each x degree i, the sum over the other degrees at one (y, z),
-/// e[i], and its derivatives in v = u_y, ev[i], and w = u_z, ew[i]:
-/// evaluate_first_order's inner (2D) or middle (3D) sums.
+/// e[i], and its derivatives in v = u_y, ev[i], and w = u_z, ew[i] (zero
+/// along axes the patch does not have).
 struct ChebyshevPatch::RowFactors {
   static constexpr int kMaxDegree = 16;
   double e[kMaxDegree + 1], ev[kMaxDegree + 1], ew[kMaxDegree + 1];
@@ -123,7 +160,7 @@ struct ChebyshevPatch::RowFactors {
 
 namespace {
 
-/// T_0..T_d and their derivatives at u (evaluate_first_order's recurrence).
+/// T_0..T_d and their derivatives at u, by T_k' = 2 T_{k-1} + 2 u T_{k-1}' - T_{k-2}'.
 void basis_with_derivative(double u, int d, double* t, double* dt) {
   t[0] = 1.0;
   dt[0] = 0.0;
@@ -135,60 +172,6 @@ void basis_with_derivative(double u, int d, double* t, double* dt) {
 }
 
 }  // namespace
-
-template <class T>
-void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
-                                   std::size_t row_count, const T* const* vars, T* out) const {
-  constexpr bool kGradient = !std::is_same_v<T, double>;
-  constexpr std::size_t kChunk = 64;  // points of a row per pass
-  constexpr int kMaxDegree = RowFactors::kMaxDegree;
-  const int d = degree_;
-  double t0[kMaxDegree + 1][kChunk], dt0[kMaxDegree + 1][kChunk];
-  double sum[kChunk], p0[kChunk], p1[kChunk], p2[kChunk];
-  for (std::size_t first = 0; first < nx; first += kChunk) {
-    const std::size_t n = std::min(kChunk, nx - first);
-    // The basis in x, shared by every row.
-    double u[kChunk];
-    for (std::size_t l = 0; l < n; ++l) {
-      u[l] = (xs[first + l] - centre_[0]) * inverse_half_[0];
-      t0[0][l] = 1.0;
-      dt0[0][l] = 0.0;
-      if (d >= 1) t0[1][l] = u[l], dt0[1][l] = 1.0;
-    }
-    for (int k = 2; k <= d; ++k)
-      for (std::size_t l = 0; l < n; ++l) {
-        t0[k][l] = 2.0 * u[l] * t0[k - 1][l] - t0[k - 2][l];
-        dt0[k][l] = 2.0 * t0[k - 1][l] + 2.0 * u[l] * dt0[k - 1][l] - dt0[k - 2][l];
-      }
-    for (std::size_t r = 0; r < row_count; ++r) {
-      const RowFactors f = row_factors(rows[r]);
-      for (std::size_t l = 0; l < n; ++l) sum[l] = p0[l] = p1[l] = p2[l] = 0.0;
-      for (int i = 0; i <= d; ++i)
-        for (std::size_t l = 0; l < n; ++l) {
-          sum[l] = sum[l] + f.e[i] * t0[i][l];
-          if constexpr (kGradient) {
-            p0[l] += f.e[i] * dt0[i][l];
-            p1[l] += f.ev[i] * t0[i][l];
-            p2[l] += f.ew[i] * t0[i][l];
-          }
-        }
-      for (std::size_t l = 0; l < n; ++l) {
-        const std::size_t p = r * nx + first + l;
-        if constexpr (kGradient) {
-          T result(sum[l]);
-          const double partial[3] = {p0[l], p1[l], p2[l]};
-          for (int a = 0; a < dimension_; ++a) {
-            const double scale = partial[a] * inverse_half_[a];
-            for (std::size_t q = 1; q < result.c.size(); ++q) result.c[q] += scale * vars[a][p].c[q];
-          }
-          out[p] = result;
-        } else {
-          out[p] = sum[l];
-        }
-      }
-    }
-  }
-}
 
 ChebyshevPatch::RowFactors ChebyshevPatch::row_factors(const std::array<double, 2>& row) const {
   constexpr int kMaxDegree = RowFactors::kMaxDegree;
@@ -230,6 +213,96 @@ ChebyshevPatch::RowFactors ChebyshevPatch::row_factors(const std::array<double, 
   return f;
 }
 
+template <class T>
+T ChebyshevPatch::chain_rule(double value, const double* partial, const T* const* at) const {
+  T r(value);
+  for (int a = 0; a < dimension_; ++a) {
+    const double scale = partial[a] * inverse_half_[a];
+    for (std::size_t q = 1; q < r.c.size(); ++q) r.c[q] += scale * at[a]->c[q];
+  }
+  return r;
+}
+
+template <class T>
+T ChebyshevPatch::evaluate_first_order(const T* vars) const {
+  constexpr int kMaxDegree = RowFactors::kMaxDegree;
+  const RowFactors f = row_factors({dimension_ > 1 ? vars[1].value() : 0.0, dimension_ > 2 ? vars[2].value() : 0.0});
+  double t[kMaxDegree + 1], dt[kMaxDegree + 1];
+  basis_with_derivative((vars[0].value() - centre_[0]) * inverse_half_[0], degree_, t, dt);
+  double sum = 0.0, partial[3] = {0.0, 0.0, 0.0};  // d/du_a
+  for (int i = 0; i <= degree_; ++i) {
+    sum = sum + f.e[i] * t[i];
+    partial[0] += f.e[i] * dt[i];
+    partial[1] += f.ev[i] * t[i];
+    partial[2] += f.ew[i] * t[i];
+  }
+  const T* at[3] = {&vars[0], &vars[std::min(1, dimension_ - 1)], &vars[std::min(2, dimension_ - 1)]};
+  return chain_rule(sum, partial, at);
+}
+
+template <class T>
+void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                                   std::size_t row_count, const T* const* vars, T* out) const {
+  constexpr bool kGradient = !std::is_same_v<T, double>;
+  constexpr std::size_t kChunk = 64;  // points of a row per pass
+  constexpr int kMaxDegree = RowFactors::kMaxDegree;
+  const int d = degree_;
+  double t0[kMaxDegree + 1][kChunk], dt0[kMaxDegree + 1][kChunk];
+  double sum[kChunk], p0[kChunk], p1[kChunk], p2[kChunk];
+  // The sums over the x degrees, with the partials along `axes` axes (the
+  // others stay zero): evaluate_first_order's loop, a lane per point.
+  auto sum_lanes = [&]<int axes>(const RowFactors& f, std::size_t n) {
+    for (int i = 0; i <= d; ++i)
+      for (std::size_t l = 0; l < n; ++l) {
+        sum[l] = sum[l] + f.e[i] * t0[i][l];
+        if constexpr (axes >= 1) p0[l] += f.e[i] * dt0[i][l];
+        if constexpr (axes >= 2) p1[l] += f.ev[i] * t0[i][l];
+        if constexpr (axes >= 3) p2[l] += f.ew[i] * t0[i][l];
+      }
+  };
+  for (std::size_t first = 0; first < nx; first += kChunk) {
+    const std::size_t n = std::min(kChunk, nx - first);
+    // The basis in x, shared by every row.
+    double u[kChunk];
+    for (std::size_t l = 0; l < n; ++l) {
+      u[l] = (xs[first + l] - centre_[0]) * inverse_half_[0];
+      t0[0][l] = 1.0;
+      dt0[0][l] = 0.0;
+      if (d >= 1) t0[1][l] = u[l], dt0[1][l] = 1.0;
+    }
+    for (int k = 2; k <= d; ++k)
+      for (std::size_t l = 0; l < n; ++l) {
+        t0[k][l] = 2.0 * u[l] * t0[k - 1][l] - t0[k - 2][l];
+        dt0[k][l] = 2.0 * t0[k - 1][l] + 2.0 * u[l] * dt0[k - 1][l] - dt0[k - 2][l];
+      }
+    for (std::size_t r = 0; r < row_count; ++r) {
+      const RowFactors f = row_factors(rows[r]);
+      for (std::size_t l = 0; l < n; ++l) sum[l] = p0[l] = p1[l] = p2[l] = 0.0;
+      if (!kGradient)
+        sum_lanes.template operator()<0>(f, n);
+      else if (dimension_ == 1)
+        sum_lanes.template operator()<1>(f, n);
+      else if (dimension_ == 2)
+        sum_lanes.template operator()<2>(f, n);
+      else
+        sum_lanes.template operator()<3>(f, n);
+      for (std::size_t l = 0; l < n; ++l) {
+        const std::size_t p = r * nx + first + l;
+        if constexpr (kGradient) {
+          const double partial[3] = {p0[l], p1[l], p2[l]};
+          const T* at[3] = {&vars[0][p], &vars[std::min(1, dimension_ - 1)][p], &vars[std::min(2, dimension_ - 1)][p]};
+          out[p] = chain_rule(sum[l], partial, at);
+        } else {
+          out[p] = sum[l];
+        }
+      }
+    }
+  }
+}
+
+template Tuple<1, 1> ChebyshevPatch::evaluate_first_order(const Tuple<1, 1>*) const;
+template Tuple<2, 1> ChebyshevPatch::evaluate_first_order(const Tuple<2, 1>*) const;
+template Tuple<3, 1> ChebyshevPatch::evaluate_first_order(const Tuple<3, 1>*) const;
 template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
                                             const double* const*, double*) const;
 template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,

@@ -6,8 +6,8 @@
 //    and that have several roots;
 //  - for tapes with far-field patches (Op::Patch reads the point itself),
 //    also over grid rows (evaluate_rows, where patches run a row at a time);
-//  - for R0 nodes in first-order tuples (r0_lanes.hpp), also at the corner,
-//    at NaN and over batches wider than its chunks.
+//  - for R0 nodes in doubles and first-order tuples (r0_lanes.hpp), also at
+//    the corner, at NaN and over batches wider than its chunks.
 
 #include "test_support.hpp"
 
@@ -89,6 +89,8 @@ TEST(BatchEvaluator, R0LanesAtTheCornerAndAtNaN) {
   points[140] = {0, 0, 0};
   expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 150);
   expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
+  expect_batch_equals_evaluator<double>(tape, points, 150);
+  expect_batch_equals_evaluator<double>(tape, points, 64);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

@@ -1,7 +1,8 @@
 // Chebyshev patches and far-field approximation: polynomials are fitted
 // exactly; analytic fields within the stated tail; kinks are refused;
 // interval evaluation encloses the patch; tuples give the patch's exact
-// derivatives, also a grid row at a time; and approximated grid sampling of a large R0 tree stays
+// derivatives, also a grid row at a time; fits right at their tail pass;
+// and approximated grid sampling of a large R0 tree stays
 // within its tolerance of exact evaluation, with far boxes reduced to a
 // single patch.
 
@@ -83,24 +84,30 @@ TEST(ChebyshevPatch, AnalyticFieldsWithinTheirTail) {
   }
 }
 
-// A box of `dimension` axes of different widths, and a patch of a smooth
-// field over it (sampling degree 10, tail 1e-3).
+// A box of `dimension` axes of different widths.
 Box test_box(int dimension) {
   Box box{Interval(0.0), Interval(0.0), Interval(0.0)};
   for (int a = 0; a < dimension; ++a) box[a] = Interval(-1.0 + 0.5 * a, 1.5 + a);
   return box;
 }
 
-std::shared_ptr<const ChebyshevPatch> fit_smooth(const Box& box, int dimension) {
+// A patch of `field` over the box (sampling degree 10).
+std::shared_ptr<const ChebyshevPatch> fit_field(const Box& box, int dimension, double tolerance,
+                                                const std::function<double(const std::array<double, 3>&)>& field) {
   const int n = 10;
   std::size_t samples = 1;
   for (int a = 0; a < dimension; ++a) samples *= n + 1;
   std::vector<double> values(samples);
-  for (std::size_t k = 0; k < samples; ++k) {
-    const auto p = ChebyshevPatch::sample_point(box.data(), dimension, n, k);
-    values[k] = std::exp(0.3 * p[0]) * std::cos(p[1] + 0.5 * p[2]) + p[0] * p[1];
-  }
-  return ChebyshevPatch::fit(box.data(), dimension, n, values, 1e-3);
+  for (std::size_t k = 0; k < samples; ++k)
+    values[k] = field(ChebyshevPatch::sample_point(box.data(), dimension, n, k));
+  return ChebyshevPatch::fit(box.data(), dimension, n, values, tolerance);
+}
+
+// A smooth field's patch with tail 1e-3.
+std::shared_ptr<const ChebyshevPatch> fit_smooth(const Box& box, int dimension) {
+  return fit_field(box, dimension, 1e-3, [](const std::array<double, 3>& p) {
+    return std::exp(0.3 * p[0]) * std::cos(p[1] + 0.5 * p[2]) + p[0] * p[1];
+  });
 }
 
 // Grid sampling asks patches for value and gradient (first-order tuples),
@@ -182,6 +189,32 @@ TEST(ChebyshevPatch, RowsMatchPointByPoint) {
     if (dimension == 1) expect_rows_match_points<1>(*patch, box, 21);
     if (dimension == 2) expect_rows_match_points<2>(*patch, box, 22);
     if (dimension == 3) expect_rows_match_points<3>(*patch, box, 23);
+  }
+}
+
+TEST(ChebyshevPatch, FitsRightAtTheirTailAreAccepted) {
+  // fit() first refuses samples whose interpolant along some line of nodes
+  // has a tail over the tolerance, a lower bound of the fit's own tail. It
+  // must never refuse a fit that passes: here at the edge, where the
+  // tolerance is the tail of the highest degree allowed, n - 2 = 8, of a
+  // field with a pole near the box (a tail far above rounding).
+  auto near_pole = [](const std::array<double, 3>& p) { return 1.0 / (4.0 - p[0] - 0.5 * p[1] - 0.25 * p[2]); };
+  for (int dimension = 1; dimension <= 3; ++dimension) {
+    SCOPED_TRACE(dimension);
+    const Box box = test_box(dimension);
+    std::shared_ptr<const ChebyshevPatch> tight;
+    for (double tolerance = 1e-1; tolerance > 1e-16; tolerance /= 2) {
+      tight = fit_field(box, dimension, tolerance, near_pole);
+      if (!tight || tight->degree() == 8) break;
+    }
+    ASSERT_TRUE(tight && tight->degree() == 8) << "a tolerance that needs degree 8";
+    const double tail = tight->tail();
+    ASSERT_GT(tail, 1e-8);
+    const auto at_edge = fit_field(box, dimension, tail, near_pole);
+    ASSERT_TRUE(at_edge);
+    EXPECT_EQ(at_edge->degree(), 8);
+    EXPECT_EQ(at_edge->tail(), tail);
+    EXPECT_FALSE(fit_field(box, dimension, tail * (1 - 1e-12), near_pole)) << "just below the tail, none passes";
   }
 }
 

@@ -98,13 +98,15 @@ class BatchEvaluator {
     const std::array<double, 2>* rows;
     std::size_t row_count;
   };
-  static constexpr bool kRowPatches = std::is_same_v<T, double> || detail::IsFirstOrderTuple<T>::value;
+  // Doubles and first-order tuples (what grid sampling and fits run) have
+  // kernels a row or a vector at a time: patches by rows, R0 by lanes.
+  static constexpr bool kLaneKernels = std::is_same_v<T, double> || detail::IsFirstOrderTuple<T>::value;
 
   // Every instruction at the count_ seeded points.
   void run(const Rows* layout) {
     const std::size_t count = count_;
     for (const Instruction& ins : tape_->code()) {
-      if constexpr (kRowPatches) {
+      if constexpr (kLaneKernels) {
         if (ins.op == Op::Patch && layout) {
           const T* vars[3] = {nullptr, nullptr, nullptr};
           for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
@@ -119,9 +121,9 @@ class BatchEvaluator {
       T* out = lanes_of(ins.out);
       const T* a = lanes_of(ins.a);
       const T* b = lanes_of(ins.b);
-      // R0 trees of value and gradient: their square roots and divisions
-      // a vector at a time (the same numbers).
-      if constexpr (detail::IsFirstOrderTuple<T>::value) {
+      // R0 trees of values, or of value and gradient: their square roots
+      // and divisions a vector at a time (the same numbers).
+      if constexpr (kLaneKernels) {
         if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
           r0_combine_lanes(a, b, out, count, ins.op == Op::RAnd ? -1.0 : 1.0);
           continue;

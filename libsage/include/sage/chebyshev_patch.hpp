@@ -88,12 +88,18 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   // Value and gradient (first-order tuples, what grid sampling asks for):
   // the series and its partials in doubles, by the recurrence of T_k', then
   // the chain rule to the tuple's variables; the value as evaluate<double>.
+  // Defined for Tuple<1..3, 1>.
   template <class T>
   T evaluate_first_order(const T* vars) const;
 
-  // evaluate_rows()'s sums over the y and z degrees at one row.
+  // The sums over the y and z degrees at one (y, z), for each x degree.
   struct RowFactors;
   RowFactors row_factors(const std::array<double, 2>& row) const;
+
+  // The tuple of `value` whose partials in the local coordinates are
+  // `partial`, through the chain rule to the variables at[a].
+  template <class T>
+  T chain_rule(double value, const double* partial, const T* const* at) const;
 
   int dimension_ = 2;
   int degree_ = 0;
@@ -118,67 +124,6 @@ void chebyshev_basis(const T& u, int d, T* t) {
 void chebyshev_basis(const Interval& u, int d, Interval* t);
 
 }  // namespace detail
-
-template <class T>
-T ChebyshevPatch::evaluate_first_order(const T* vars) const {
-  constexpr int kMaxDegree = 16;
-  const int d = degree_;
-  double t[3][kMaxDegree + 1], dt[3][kMaxDegree + 1];  // T_k and T_k' at u_a
-  for (int a = 0; a < dimension_; ++a) {
-    const double u = (vars[a].value() - centre_[a]) * inverse_half_[a];
-    t[a][0] = 1.0;
-    dt[a][0] = 0.0;
-    if (d >= 1) t[a][1] = u, dt[a][1] = 1.0;
-    for (int k = 2; k <= d; ++k) {
-      t[a][k] = 2.0 * u * t[a][k - 1] - t[a][k - 2];
-      dt[a][k] = 2.0 * t[a][k - 1] + 2.0 * u * dt[a][k - 1] - dt[a][k - 2];
-    }
-  }
-  const double* c = coefficients_.data();
-  double sum = 0.0;
-  std::array<double, 3> partial{0.0, 0.0, 0.0};  // d/du_a
-  if (dimension_ == 1) {
-    for (int i = 0; i <= d; ++i, ++c) {
-      sum = sum + *c * t[0][i];
-      partial[0] += *c * dt[0][i];
-    }
-  } else if (dimension_ == 2) {
-    for (int i = 0; i <= d; ++i) {
-      double inner = 0.0, inner_v = 0.0;
-      for (int j = 0; j <= d - i; ++j, ++c) {
-        inner = inner + *c * t[1][j];
-        inner_v += *c * dt[1][j];
-      }
-      sum = sum + inner * t[0][i];
-      partial[0] += inner * dt[0][i];
-      partial[1] += inner_v * t[0][i];
-    }
-  } else {
-    for (int i = 0; i <= d; ++i) {
-      double middle = 0.0, middle_v = 0.0, middle_w = 0.0;
-      for (int j = 0; j <= d - i; ++j) {
-        double inner = 0.0, inner_w = 0.0;
-        for (int k = 0; k <= d - i - j; ++k, ++c) {
-          inner = inner + *c * t[2][k];
-          inner_w += *c * dt[2][k];
-        }
-        middle = middle + inner * t[1][j];
-        middle_v += inner * dt[1][j];
-        middle_w += inner_w * t[1][j];
-      }
-      sum = sum + middle * t[0][i];
-      partial[0] += middle * dt[0][i];
-      partial[1] += middle_v * t[0][i];
-      partial[2] += middle_w * t[0][i];
-    }
-  }
-  T r(sum);
-  for (int a = 0; a < dimension_; ++a) {
-    const double scale = partial[a] * inverse_half_[a];
-    for (std::size_t q = 1; q < r.c.size(); ++q) r.c[q] += scale * vars[a].c[q];
-  }
-  return r;
-}
 
 template <class T>
 T ChebyshevPatch::evaluate(const T* vars) const {

@@ -1,6 +1,7 @@
 #pragma once
-// R0 over many points at once, for BatchEvaluator's first-order tuples: R0
-// trees spend most of their time in its square root and division.
+// R0 over many points at once, for BatchEvaluator's doubles (fit samples)
+// and first-order tuples (grid values and gradients): R0 trees spend most
+// of their time in its square root and division.
 
 #include <sage/tuple.hpp>
 
@@ -11,6 +12,7 @@ namespace sage {
 /// out[l] = r0_combine(x[l], y[l], sign) for l < count, the same numbers
 /// bit for bit. out may be x or y (each lane reads its arguments before
 /// it writes).
+void r0_combine_lanes(const double* x, const double* y, double* out, std::size_t count, double sign);
 void r0_combine_lanes(const Tuple<2, 1>* x, const Tuple<2, 1>* y, Tuple<2, 1>* out, std::size_t count, double sign);
 void r0_combine_lanes(const Tuple<3, 1>* x, const Tuple<3, 1>* y, Tuple<3, 1>* out, std::size_t count, double sign);
 
