@@ -198,7 +198,7 @@ Expr pow_real(const Expr& a, double r) {
   if (r == std::floor(r) && std::abs(r) < 0x1p20) return pow_int(a, static_cast<int>(r));
   if (r == 0.5) return sqrt(a);
   return unary(
-      Op::PowReal, a, [r](double v) { return std::pow(v, r); }, r);
+      Op::PowReal, a, [r](double v) { return sage::pow_real(v, r); }, r);
 }
 
 Expr div_safe(const Expr& a, const Expr& b) {

@@ -6,8 +6,9 @@
 //    and that have several roots;
 //  - for tapes with far-field patches (Op::Patch reads the point itself),
 //    also over grid rows (evaluate_rows, where patches run a row at a time);
-//  - for R0 nodes in doubles and first-order tuples (r0_lanes.hpp), also at
-//    the corner, at NaN and over batches wider than its chunks.
+//  - for R0 and Rp nodes in doubles and first-order tuples
+//    (rfunction_lanes.hpp), also at the corner, at NaN, at a zero argument
+//    and over batches wider than their chunks.
 
 #include "test_support.hpp"
 
@@ -77,20 +78,25 @@ TEST(BatchEvaluator, EveryOpGivesTheEvaluatorsBits) {
   }
 }
 
-TEST(BatchEvaluator, R0LanesAtTheCornerAndAtNaN) {
+TEST(BatchEvaluator, R0AndRpLanesAtTheCornerAndAtNaN) {
   const Expr x = Expr::x(), y = Expr::y();
-  // The inner node's output register is reused by the outer one (aliasing).
-  const Expr inner = r_and(x, y, RSystem::r0());
-  const Tape tape(std::vector<Expr>{r_or(inner, x - 1.0, RSystem::r0()), r_or(x, y, RSystem::r0())}, 2);
   Points points = random_points(150, 33, -1, 1);  // wider than the 64-lane chunks
   points[3] = {0, 0, 0};                          // both corners
   points[70] = {1, 0, 0};                         // the outer corner: inner = 0, x - 1 = 0
   points[71] = {std::nan(""), 0.5, 0};
+  points[100] = {0, 0.5, 0};  // a zero argument
   points[140] = {0, 0, 0};
-  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 150);
-  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
-  expect_batch_equals_evaluator<double>(tape, points, 150);
-  expect_batch_equals_evaluator<double>(tape, points, 64);
+  // rp:6 runs lane by lane, the others a vector at a time.
+  for (const RSystem& system : {RSystem::r0(), RSystem::r_p(2), RSystem::r_p(4), RSystem::r_p(6), RSystem::r_p(8)}) {
+    SCOPED_TRACE(system.name());
+    // The inner node's output register is reused by the outer one (aliasing).
+    const Expr inner = r_and(x, y, system);
+    const Tape tape(std::vector<Expr>{r_or(inner, x - 1.0, system), r_or(x, y, system)}, 2);
+    expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 150);
+    expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
+    expect_batch_equals_evaluator<double>(tape, points, 150);
+    expect_batch_equals_evaluator<double>(tape, points, 64);
+  }
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

@@ -8,6 +8,7 @@
 #include "test_support.hpp"
 
 #include <sage/derivative.hpp>
+#include <sage/interval.hpp>
 #include <sage/rfunction.hpp>
 #include <sage/tuple.hpp>
 
@@ -354,6 +355,31 @@ TEST(Tuple, AgreesWithNestedSymbolicDerivativesInEveryOrder) {
         EXPECT_NEAR(sym, tup, 1e-11 * (1 + std::abs(tup)));
       }
     } while (std::next_permutation(vars.begin(), vars.end()));
+  }
+}
+
+// scalar.hpp takes the roots r = 1/2, 1/4, 1/8 (R0's and Rp's for p = 4,
+// 8) by square roots instead of std::pow: as close to x^r as pow is, with
+// pow's values at 0, inf, NaN and negative x; tuples and intervals take the
+// same value.
+TEST(Tuple, RootsBySquareRootsAreWithinAnUlpOfPow) {
+  auto rng = test::make_rng(31);
+  for (double r : {0.5, 0.25, 0.125}) {
+    double worst = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+      const double x = std::ldexp(test::uniform(rng, 1, 2), static_cast<int>(test::uniform(rng, -1000, 1000)));
+      const long double exact = std::pow(static_cast<long double>(x), static_cast<long double>(r));
+      const double ulp = std::nextafter(static_cast<double>(exact), INFINITY) - static_cast<double>(exact);
+      worst = std::max(worst, static_cast<double>(std::abs(pow_real(x, r) - exact) / ulp));
+      ASSERT_EQ(pow_real(Tuple<2, 2>::variable(0, x), r).value(), pow_real(x, r));
+      ASSERT_TRUE(pow_real(Interval(x), r).contains(pow_real(x, r)));
+    }
+    EXPECT_LT(worst, 1.0) << "r " << r;  // std::pow's own bound
+    for (double x : {0.0, -0.0, 1.0 / 0.0, -1.0, -1.0 / 0.0, std::nan("")}) {
+      const double expected = std::pow(x, r), root = pow_real(x, r);
+      EXPECT_TRUE(root == expected || (std::isnan(root) && std::isnan(expected))) << x << " ^ " << r;
+      EXPECT_EQ(std::signbit(root), std::signbit(expected)) << x << " ^ " << r;
+    }
   }
 }
 

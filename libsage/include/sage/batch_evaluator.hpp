@@ -16,7 +16,7 @@
 //     double w = batch.result(3).value();             // root 0 at point 3
 
 #include <sage/evaluator.hpp>
-#include <sage/r0_lanes.hpp>
+#include <sage/rfunction_lanes.hpp>
 
 #include <array>
 #include <cstddef>
@@ -121,12 +121,20 @@ class BatchEvaluator {
       T* out = lanes_of(ins.out);
       const T* a = lanes_of(ins.a);
       const T* b = lanes_of(ins.b);
-      // R0 trees of values, or of value and gradient: their square roots
+      // R0 and Rp trees of values, or of value and gradient: their roots
       // and divisions a vector at a time (the same numbers).
       if constexpr (kLaneKernels) {
-        if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
-          r0_combine_lanes(a, b, out, count, ins.op == Op::RAnd ? -1.0 : 1.0);
-          continue;
+        if (ins.op == Op::RAnd || ins.op == Op::ROr) {
+          const auto kind = static_cast<RKind>(static_cast<int>(ins.p0));
+          const double sign = ins.op == Op::RAnd ? -1.0 : 1.0;
+          if (kind == RKind::R0) {
+            r0_combine_lanes(a, b, out, count, sign);
+            continue;
+          }
+          if (kind == RKind::Rp) {
+            rp_combine_lanes(a, b, out, count, static_cast<int>(ins.p1), sign);
+            continue;
+          }
         }
       }
       // Elementwise, so an output register shared with an argument is safe.

@@ -120,7 +120,7 @@ inline Interval sqrt(const Interval& a) {
 inline Interval pow_real(const Interval& a, double r) {
   if (r == std::floor(r) && std::abs(r) < 0x1p20) return pow_int(a, static_cast<int>(r));
   if (a.hi < 0) return {NAN, NAN};
-  const double l = std::pow(std::max(a.lo, 0.0), r), h = std::pow(a.hi, r);
+  const double l = sage::pow_real(std::max(a.lo, 0.0), r), h = sage::pow_real(a.hi, r);  // monotone
   return detail::outward(std::min(l, h), std::max(l, h), 2);
 }
 

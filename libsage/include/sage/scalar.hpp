@@ -35,7 +35,15 @@ inline double pow_int(double x, int n) {
   }
   return r;
 }
-inline double pow_real(double x, double r) { return std::pow(x, r); }
+/// x^r; r = 1/2, 1/4, 1/8 (the roots of R0 and of Rp for p = 4, 8) by one,
+/// two or three square roots, several times faster than std::pow and, like
+/// it, within an ulp. Tuples and intervals take their roots from here.
+inline double pow_real(double x, double r) {
+  const int roots = r == 0.5 ? 1 : r == 0.25 ? 2 : r == 0.125 ? 3 : 0;
+  if (roots == 0 || !(x > 0)) return std::pow(x, r);  // pow's zeros, NaNs and infinities
+  for (int i = 0; i < roots; ++i) x = std::sqrt(x);
+  return x;
+}
 inline double min(double a, double b) { return a < b ? a : (b < a ? b : 0.5 * (a + b)); }
 inline double max(double a, double b) { return a > b ? a : (b > a ? b : 0.5 * (a + b)); }
 using std::abs;

@@ -179,13 +179,21 @@ Tuple<N, K> compose(const Tuple<N, K>& a, const std::array<double, K + 1>& g) {
   return r;
 }
 
-/// Taylor coefficients of t -> (a0 + t)^r at t = 0, a0 != 0.
+/// Taylor coefficients of t -> (a0 + t)^r at t = 0, a0 != 0, from its
+/// value g0 = a0^r.
 template <int K>
-std::array<double, K + 1> power_series(double a0, double r) {
+std::array<double, K + 1> power_series_from(double g0, double a0, double r) {
   std::array<double, K + 1> g{};
-  g[0] = r == 0.5 ? std::sqrt(a0) : std::pow(a0, r);  // sqrt: several times faster than pow
+  g[0] = g0;
   for (int k = 1; k <= K; ++k) g[k] = g[k - 1] * (r - k + 1) / (k * a0);
   return g;
+}
+
+/// Taylor coefficients of t -> (a0 + t)^r at t = 0, a0 != 0; the value is
+/// the double evaluator's, bit for bit.
+template <int K>
+std::array<double, K + 1> power_series(double a0, double r) {
+  return power_series_from<K>(sage::pow_real(a0, r), a0, r);
 }
 
 template <int N, int K>
@@ -334,7 +342,7 @@ Tuple<N, K> clamp_nonneg(const Tuple<N, K>& a) {
 /// evaluator's, bit for bit.
 namespace detail {
 /// R0 of first-order tuples off the corner, given root = sqrt(x0^2 + y0^2)
-/// and slope = sign * root * 0.5 / (x0^2 + y0^2) (r0_lanes.cpp computes
+/// and slope = sign * root * 0.5 / (x0^2 + y0^2) (rfunction_lanes.cpp computes
 /// these a vector at a time).
 template <int N>
 Tuple<N, 1> r0_from_root(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign, double root, double slope) {
@@ -354,6 +362,21 @@ Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) 
   return detail::r0_from_root(x, y, sign, root, sign * root * 0.5 / r2);
 }
 
+namespace detail {
+/// The first-order Rp of nonzero arguments from s0 = x0^p + y0^p > 0 and
+/// root = pow_real(s0, 1 / p) (rfunction_lanes.cpp computes these a vector
+/// at a time).
+template <int N>
+Tuple<N, 1> rp_from_root(const Tuple<N, 1>& x, const Tuple<N, 1>& y, int p, double sign, double s0, double root) {
+  const auto gx = integer_power_series<1>(x.c[0], p), gy = integer_power_series<1>(y.c[0], p);
+  const auto g = power_series_from<1>(root, s0, 1.0 / p);
+  Tuple<N, 1> out;
+  out.c[0] = x.c[0] + y.c[0] + sign * g[0];
+  for (int k = 1; k <= N; ++k) out.c[k] = x.c[k] + y.c[k] + sign * (g[1] * (gx[1] * x.c[k] + gy[1] * y.c[k]));
+  return out;
+}
+}  // namespace detail
+
 /// The Rp function x + y -+ (x^p + y^p)^(1/p) of first-order tuples
 /// (rfunction.hpp's rp_combine for every other type): the general path's
 /// arithmetic (the same series coefficients, the same order of operations,
@@ -364,12 +387,7 @@ Tuple<N, 1> rp_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, int p, double
   const double s0 = sage::pow_int(x0, p) + sage::pow_int(y0, p);
   if (x0 == 0.0 || y0 == 0.0 || !(s0 > 0.0) || p < 2)  // zero arguments, the corner, NaN
     return x + y + sign * pow_real(pow_int(x, p) + pow_int(y, p), r);
-  const auto gx = integer_power_series<1>(x0, p), gy = integer_power_series<1>(y0, p);
-  const auto g = power_series<1>(s0, r);
-  Tuple<N, 1> out;
-  out.c[0] = x0 + y0 + sign * g[0];
-  for (int k = 1; k <= N; ++k) out.c[k] = x.c[k] + y.c[k] + sign * (g[1] * (gx[1] * x.c[k] + gy[1] * y.c[k]));
-  return out;
+  return detail::rp_from_root(x, y, p, sign, s0, sage::pow_real(s0, r));
 }
 
 template <int N, int K>
