@@ -2,8 +2,8 @@
 // library call for negative arguments, so the compiler runs the roots and
 // the divisions of several lanes in one vector instruction. The arithmetic
 // is tuple.hpp's and rfunction.hpp's r0_combine and rp_combine, operation
-// for operation (detail::r0_from_root and detail::rp_from_root finish the
-// tuples of both). Each entry point is also compiled for AVX2, chosen at
+// for operation (detail::r0_from_root and detail::rp_from_factors finish
+// the tuples of both). Each entry point is also compiled for AVX2, chosen at
 // run time (four lanes per root or division instead of two: Greenland's R0
 // field 10% faster on one thread); AVX2 has no fused multiply-add, so the
 // bits stay the same.
@@ -37,10 +37,16 @@ template <int N>
     const Tuple<N, 1>* ys = y + start;
     Tuple<N, 1>* outs = out + start;
     for (std::size_t l = 0; l < n; ++l) r2[l] = xs[l].c[0] * xs[l].c[0] + ys[l].c[0] * ys[l].c[0];
+    std::size_t singular = 0;
     for (std::size_t l = 0; l < n; ++l) {
+      singular += !(r2[l] > 0.0);
       const double r = r2[l] > 0.0 ? r2[l] : 1.0;  // corner and NaN lanes are redone below
       root[l] = std::sqrt(r);
       slope[l] = sign * root[l] * 0.5 / r;
+    }
+    if (singular == 0) {  // the usual case: no branch, so this loop vectorizes too
+      for (std::size_t l = 0; l < n; ++l) outs[l] = detail::r0_from_root(xs[l], ys[l], sign, root[l], slope[l]);
+      continue;
     }
     for (std::size_t l = 0; l < n; ++l)
       outs[l] =
@@ -51,23 +57,21 @@ template <int N>
 // pow_real(s, 1 / P) for s > 0 and P = 2^roots: that many square roots.
 template <int P>
 [[gnu::always_inline]] inline double root_of_order(double s) {
-  static_assert(P == 2 || P == 4 || P == 8);
-  for (int q = P; q > 1; q /= 2) s = std::sqrt(s);
-  return s;
+  static_assert(P == 1 || P == 2 || P == 4 || P == 8);
+  if constexpr (P == 1)
+    return s;
+  else
+    return root_of_order<P / 2>(std::sqrt(s));
 }
 
-inline double value_of(double v) { return v; }
-template <int N>
-double value_of(const Tuple<N, 1>& t) {
-  return t.c[0];
-}
-
-// The P-th powers of a chunk's arguments, their sums and the sums' roots
-// (1 where the sum is not positive: those lanes are redone by the caller).
-template <int P, class T>
-[[gnu::always_inline]] inline void rp_roots(const T* x, const T* y, std::size_t n, double* s, double* root) {
-  for (std::size_t l = 0; l < n; ++l) s[l] = sage::pow_int(value_of(x[l]), P) + sage::pow_int(value_of(y[l]), P);
-  for (std::size_t l = 0; l < n; ++l) root[l] = root_of_order<P>(s[l] > 0.0 ? s[l] : 1.0);
+// sage::pow_int(b, E) unrolled at compile time (r = 1 to start): the same
+// products in the same order, but a loop over lanes around it vectorizes.
+template <unsigned E>
+[[gnu::always_inline]] inline double pow_unrolled(double b, double r = 1.0) {
+  if constexpr (E == 0)
+    return r;
+  else
+    return pow_unrolled<(E >> 1)>(b * b, (E & 1u) ? r * b : r);
 }
 
 template <int P>
@@ -78,8 +82,17 @@ template <int P>
     const std::size_t n = std::min(kChunk, count - start);
     const double* xs = x + start;
     const double* ys = y + start;
-    rp_roots<P>(xs, ys, n, s, root);
+    std::size_t singular = 0;
+    for (std::size_t l = 0; l < n; ++l) {
+      s[l] = pow_unrolled<P>(xs[l]) + pow_unrolled<P>(ys[l]);
+      singular += !(s[l] > 0.0);
+      root[l] = root_of_order<P>(s[l] > 0.0 ? s[l] : 1.0);
+    }
     // rfunction.hpp's rp_combine<double>; pow_real keeps 0, NaN and inf.
+    if (singular == 0) {
+      for (std::size_t l = 0; l < n; ++l) out[start + l] = xs[l] + ys[l] + sign * root[l];
+      continue;
+    }
     for (std::size_t l = 0; l < n; ++l)
       out[start + l] = xs[l] + ys[l] + sign * (s[l] > 0.0 ? root[l] : pow_real(s[l], 1.0 / P));
   }
@@ -88,18 +101,37 @@ template <int P>
 template <int P, int N>
 [[gnu::always_inline]] inline void rp_lanes(const Tuple<N, 1>* x, const Tuple<N, 1>* y, Tuple<N, 1>* out,
                                             std::size_t count, double sign) {
-  double s[kChunk], root[kChunk];
+  double s[kChunk], root[kChunk], slope[kChunk], px[kChunk], py[kChunk];
   for (std::size_t start = 0; start < count; start += kChunk) {
     const std::size_t n = std::min(kChunk, count - start);
     const Tuple<N, 1>* xs = x + start;
     const Tuple<N, 1>* ys = y + start;
     Tuple<N, 1>* outs = out + start;
-    rp_roots<P>(xs, ys, n, s, root);
-    // tuple.hpp's rp_combine: zero arguments, the corner and NaN take the general path.
+    // tuple.hpp's rp_combine: its factors (integer_power_series and
+    // power_series of order 1) and its fallback for zero arguments, the
+    // corner and NaN.
+    std::size_t singular = 0;
+    for (std::size_t l = 0; l < n; ++l) {
+      const double x0 = xs[l].c[0], y0 = ys[l].c[0];
+      s[l] = pow_unrolled<P>(x0) + pow_unrolled<P>(y0);
+      px[l] = static_cast<double>(P) * pow_unrolled<P - 1>(x0);
+      py[l] = static_cast<double>(P) * pow_unrolled<P - 1>(y0);
+      singular += !(x0 != 0.0 && y0 != 0.0 && s[l] > 0.0);
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      const double safe = s[l] > 0.0 ? s[l] : 1.0;  // singular lanes are redone below
+      root[l] = root_of_order<P>(safe);
+      slope[l] = power_series_from<1>(root[l], safe, 1.0 / P)[1];
+    }
+    if (singular == 0) {
+      for (std::size_t l = 0; l < n; ++l)
+        outs[l] = detail::rp_from_factors(xs[l], ys[l], sign, root[l], slope[l], px[l], py[l]);
+      continue;
+    }
     for (std::size_t l = 0; l < n; ++l) {
       const bool regular = xs[l].c[0] != 0.0 && ys[l].c[0] != 0.0 && s[l] > 0.0;
-      outs[l] =
-          regular ? detail::rp_from_root(xs[l], ys[l], P, sign, s[l], root[l]) : rp_combine(xs[l], ys[l], P, sign);
+      outs[l] = regular ? detail::rp_from_factors(xs[l], ys[l], sign, root[l], slope[l], px[l], py[l])
+                        : rp_combine(xs[l], ys[l], P, sign);
     }
   }
 }

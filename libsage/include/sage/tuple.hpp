@@ -363,16 +363,16 @@ Tuple<N, 1> r0_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign) 
 }
 
 namespace detail {
-/// The first-order Rp of nonzero arguments from s0 = x0^p + y0^p > 0 and
-/// root = pow_real(s0, 1 / p) (rfunction_lanes.cpp computes these a vector
-/// at a time).
+/// The first-order Rp of nonzero arguments from its scalar factors: root =
+/// pow_real(s0, 1 / p) of s0 = x0^p + y0^p > 0, slope = d root / d s0 and
+/// px, py = p x0^(p-1), p y0^(p-1) (rfunction_lanes.cpp computes these a
+/// vector at a time).
 template <int N>
-Tuple<N, 1> rp_from_root(const Tuple<N, 1>& x, const Tuple<N, 1>& y, int p, double sign, double s0, double root) {
-  const auto gx = integer_power_series<1>(x.c[0], p), gy = integer_power_series<1>(y.c[0], p);
-  const auto g = power_series_from<1>(root, s0, 1.0 / p);
+Tuple<N, 1> rp_from_factors(const Tuple<N, 1>& x, const Tuple<N, 1>& y, double sign, double root, double slope,
+                            double px, double py) {
   Tuple<N, 1> out;
-  out.c[0] = x.c[0] + y.c[0] + sign * g[0];
-  for (int k = 1; k <= N; ++k) out.c[k] = x.c[k] + y.c[k] + sign * (g[1] * (gx[1] * x.c[k] + gy[1] * y.c[k]));
+  out.c[0] = x.c[0] + y.c[0] + sign * root;
+  for (int k = 1; k <= N; ++k) out.c[k] = x.c[k] + y.c[k] + sign * (slope * (px * x.c[k] + py * y.c[k]));
   return out;
 }
 }  // namespace detail
@@ -387,7 +387,9 @@ Tuple<N, 1> rp_combine(const Tuple<N, 1>& x, const Tuple<N, 1>& y, int p, double
   const double s0 = sage::pow_int(x0, p) + sage::pow_int(y0, p);
   if (x0 == 0.0 || y0 == 0.0 || !(s0 > 0.0) || p < 2)  // zero arguments, the corner, NaN
     return x + y + sign * pow_real(pow_int(x, p) + pow_int(y, p), r);
-  return detail::rp_from_root(x, y, p, sign, s0, sage::pow_real(s0, r));
+  const auto gx = integer_power_series<1>(x0, p), gy = integer_power_series<1>(y0, p);
+  const auto g = power_series<1>(s0, r);
+  return detail::rp_from_factors(x, y, sign, g[0], g[1], gx[1], gy[1]);
 }
 
 template <int N, int K>
