@@ -144,6 +144,8 @@ int main(int argc, char** argv) {
       {"CSG minmax", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::min_max()); }},
       {"CSG r0", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r0()); }},
       {"CSG rp:4", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r_p(4)); }},
+      {"CSG rp:8", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r_p(8)); }},
+      {"CSG ralpha:0.5", [&] { return sage::geometry::polygon_csg(set, sage::RSystem::r_alpha(0.5)); }},
       {"B-rep minmax", [&] { return sage::geometry::polygon_brep(set, sage::RSystem::min_max()); }},
       {"B-rep r0", [&] { return sage::geometry::polygon_brep(set, sage::RSystem::r0()); }},
   };

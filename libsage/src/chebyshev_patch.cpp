@@ -240,9 +240,9 @@ T ChebyshevPatch::evaluate_first_order(const T* vars) const {
   return chain_rule(sum, partial, at);
 }
 
-template <class T>
-void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
-                                   std::size_t row_count, const T* const* vars, T* out) const {
+template <class T, class Vars, class Out>
+void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                               std::size_t row_count, Vars vars, Out out) const {
   constexpr bool kGradient = !std::is_same_v<T, double>;
   constexpr std::size_t kChunk = 64;  // points of a row per pass
   constexpr int kMaxDegree = RowFactors::kMaxDegree;
@@ -286,15 +286,27 @@ void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::
         sum_lanes.template operator()<2>(f, n);
       else
         sum_lanes.template operator()<3>(f, n);
-      for (std::size_t l = 0; l < n; ++l) {
-        const std::size_t p = r * nx + first + l;
-        if constexpr (kGradient) {
-          const double partial[3] = {p0[l], p1[l], p2[l]};
-          const T* at[3] = {&vars[0][p], &vars[std::min(1, dimension_ - 1)][p], &vars[std::min(2, dimension_ - 1)][p]};
-          out[p] = chain_rule(sum[l], partial, at);
-        } else {
-          out[p] = sum[l];
+      const std::size_t base = r * nx + first;
+      if constexpr (kGradient) {
+        // chain_rule() a component at a time: each gradient component is
+        // 0 + the sum over the axes of partial * inverse_half * the
+        // variable's component, in the order of the axes; then the value.
+        // (Each lane reads its variables before it writes: out may be one.)
+        const double* partial[3] = {p0, p1, p2};
+        for (int q = 1; q < T::size; ++q) {
+          double acc[kChunk];
+          for (std::size_t l = 0; l < n; ++l) acc[l] = 0.0;
+          for (int a = 0; a < dimension_; ++a) {
+            const double* v = vars[a].component(q) + base;
+            for (std::size_t l = 0; l < n; ++l) acc[l] += partial[a][l] * inverse_half_[a] * v[l];
+          }
+          double* o = out.component(q) + base;
+          for (std::size_t l = 0; l < n; ++l) o[l] = acc[l];
         }
+        double* o = out.component(0) + base;
+        for (std::size_t l = 0; l < n; ++l) o[l] = sum[l];
+      } else {
+        for (std::size_t l = 0; l < n; ++l) out[base + l] = sum[l];
       }
     }
   }
@@ -303,14 +315,24 @@ void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::
 template Tuple<1, 1> ChebyshevPatch::evaluate_first_order(const Tuple<1, 1>*) const;
 template Tuple<2, 1> ChebyshevPatch::evaluate_first_order(const Tuple<2, 1>*) const;
 template Tuple<3, 1> ChebyshevPatch::evaluate_first_order(const Tuple<3, 1>*) const;
+void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                                   std::size_t row_count, double* out) const {
+  rows_into<double>(xs, nx, rows, row_count, nullptr, out);
+}
+
+template <int N>
+void ChebyshevPatch::evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                                   std::size_t row_count, const ConstTupleLanes<Tuple<N, 1>>* vars,
+                                   TupleLanes<Tuple<N, 1>> out) const {
+  rows_into<Tuple<N, 1>>(xs, nx, rows, row_count, vars, out);
+}
+
 template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
-                                            const double* const*, double*) const;
+                                            const ConstTupleLanes<Tuple<1, 1>>*, TupleLanes<Tuple<1, 1>>) const;
 template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
-                                            const Tuple<1, 1>* const*, Tuple<1, 1>*) const;
+                                            const ConstTupleLanes<Tuple<2, 1>>*, TupleLanes<Tuple<2, 1>>) const;
 template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
-                                            const Tuple<2, 1>* const*, Tuple<2, 1>*) const;
-template void ChebyshevPatch::evaluate_rows(const double*, std::size_t, const std::array<double, 2>*, std::size_t,
-                                            const Tuple<3, 1>* const*, Tuple<3, 1>*) const;
+                                            const ConstTupleLanes<Tuple<3, 1>>*, TupleLanes<Tuple<3, 1>>) const;
 
 namespace detail {
 

@@ -3,10 +3,15 @@
 // the divisions of several lanes in one vector instruction. The arithmetic
 // is tuple.hpp's and rfunction.hpp's r0_combine and rp_combine, operation
 // for operation (detail::r0_from_root and detail::rp_from_factors finish
-// the tuples of both). Each entry point is also compiled for AVX2, chosen at
-// run time (four lanes per root or division instead of two: Greenland's R0
+// the tuples of both; here a component at a time, over tuples stored by
+// component). Each entry point is also compiled for AVX2, chosen at run
+// time (four lanes per root or division instead of two: Greenland's R0
 // field 10% faster on one thread); AVX2 has no fused multiply-add, so the
 // bits stay the same.
+//
+// Every lane reads its own arguments before it writes its result, and no
+// other lane's: so `out` may be `x` or `y`, and `#pragma GCC ivdep` tells
+// the compiler that no iteration depends on another even then.
 
 #include <sage/rfunction_lanes.hpp>
 
@@ -28,29 +33,59 @@ namespace {
 constexpr std::size_t kChunk = 64;
 
 template <int N>
-[[gnu::always_inline]] inline void r0_lanes(const Tuple<N, 1>* x, const Tuple<N, 1>* y, Tuple<N, 1>* out,
-                                            std::size_t count, double sign) {
+using Lanes = TupleLanes<Tuple<N, 1>>;
+template <int N>
+using ConstLanes = ConstTupleLanes<Tuple<N, 1>>;
+
+// A chunk [start, start + n) without singular lanes: component k >= 1 of
+// lane start + l is xk + yk + partial(l, x0, y0, xk, yk), a component at a
+// time, then the value x0 + y0 + sign * root[l] (last, as the partials read
+// the values).
+template <int N, class Partial>
+[[gnu::always_inline]] inline void finish_by_component(ConstLanes<N> x, ConstLanes<N> y, Lanes<N> out,
+                                                       std::size_t start, std::size_t n, const double* root,
+                                                       double sign, Partial partial) {
+  const double* x0 = x.component(0) + start;
+  const double* y0 = y.component(0) + start;
+  for (int k = 1; k <= N; ++k) {
+    const double* xk = x.component(k) + start;
+    const double* yk = y.component(k) + start;
+    double* ok = out.component(k) + start;
+#pragma GCC ivdep
+    for (std::size_t l = 0; l < n; ++l) ok[l] = xk[l] + yk[l] + partial(l, x0[l], y0[l], xk[l], yk[l]);
+  }
+  double* o0 = out.component(0) + start;
+#pragma GCC ivdep
+  for (std::size_t l = 0; l < n; ++l) o0[l] = x0[l] + y0[l] + sign * root[l];
+}
+
+template <int N>
+[[gnu::always_inline]] inline void r0_lanes(ConstLanes<N> x, ConstLanes<N> y, Lanes<N> out, std::size_t count,
+                                            double sign) {
   double r2[kChunk], root[kChunk], slope[kChunk];
   for (std::size_t start = 0; start < count; start += kChunk) {
     const std::size_t n = std::min(kChunk, count - start);
-    const Tuple<N, 1>* xs = x + start;
-    const Tuple<N, 1>* ys = y + start;
-    Tuple<N, 1>* outs = out + start;
-    for (std::size_t l = 0; l < n; ++l) r2[l] = xs[l].c[0] * xs[l].c[0] + ys[l].c[0] * ys[l].c[0];
+    const double* x0 = x.component(0) + start;
+    const double* y0 = y.component(0) + start;
     std::size_t singular = 0;
     for (std::size_t l = 0; l < n; ++l) {
+      r2[l] = x0[l] * x0[l] + y0[l] * y0[l];
       singular += !(r2[l] > 0.0);
       const double r = r2[l] > 0.0 ? r2[l] : 1.0;  // corner and NaN lanes are redone below
       root[l] = std::sqrt(r);
       slope[l] = sign * root[l] * 0.5 / r;
     }
-    if (singular == 0) {  // the usual case: no branch, so this loop vectorizes too
-      for (std::size_t l = 0; l < n; ++l) outs[l] = detail::r0_from_root(xs[l], ys[l], sign, root[l], slope[l]);
+    if (singular == 0) {  // detail::r0_from_root
+      finish_by_component(x, y, out, start, n, root, sign,
+                          [&](std::size_t l, double a0, double b0, double a, double b) {
+                            return slope[l] * (2.0 * a0 * a + 2.0 * b0 * b);
+                          });
       continue;
     }
-    for (std::size_t l = 0; l < n; ++l)
-      outs[l] =
-          r2[l] > 0.0 ? detail::r0_from_root(xs[l], ys[l], sign, root[l], slope[l]) : r0_combine(xs[l], ys[l], sign);
+    for (std::size_t l = 0; l < n; ++l) {
+      const Tuple<N, 1> a = x.load(start + l), b = y.load(start + l);
+      out.store(start + l, r2[l] > 0.0 ? detail::r0_from_root(a, b, sign, root[l], slope[l]) : r0_combine(a, b, sign));
+    }
   }
 }
 
@@ -99,53 +134,64 @@ template <int P>
 }
 
 template <int P, int N>
-[[gnu::always_inline]] inline void rp_lanes(const Tuple<N, 1>* x, const Tuple<N, 1>* y, Tuple<N, 1>* out,
-                                            std::size_t count, double sign) {
+[[gnu::always_inline]] inline void rp_lanes(ConstLanes<N> x, ConstLanes<N> y, Lanes<N> out, std::size_t count,
+                                            double sign) {
   double s[kChunk], root[kChunk], slope[kChunk], px[kChunk], py[kChunk];
   for (std::size_t start = 0; start < count; start += kChunk) {
     const std::size_t n = std::min(kChunk, count - start);
-    const Tuple<N, 1>* xs = x + start;
-    const Tuple<N, 1>* ys = y + start;
-    Tuple<N, 1>* outs = out + start;
+    const double* x0 = x.component(0) + start;
+    const double* y0 = y.component(0) + start;
     // tuple.hpp's rp_combine: its factors (integer_power_series and
     // power_series of order 1) and its fallback for zero arguments, the
     // corner and NaN.
     std::size_t singular = 0;
     for (std::size_t l = 0; l < n; ++l) {
-      const double x0 = xs[l].c[0], y0 = ys[l].c[0];
-      s[l] = pow_unrolled<P>(x0) + pow_unrolled<P>(y0);
-      px[l] = static_cast<double>(P) * pow_unrolled<P - 1>(x0);
-      py[l] = static_cast<double>(P) * pow_unrolled<P - 1>(y0);
-      singular += !(x0 != 0.0 && y0 != 0.0 && s[l] > 0.0);
+      s[l] = pow_unrolled<P>(x0[l]) + pow_unrolled<P>(y0[l]);
+      px[l] = static_cast<double>(P) * pow_unrolled<P - 1>(x0[l]);
+      py[l] = static_cast<double>(P) * pow_unrolled<P - 1>(y0[l]);
+      singular += !(x0[l] != 0.0 && y0[l] != 0.0 && s[l] > 0.0);
     }
     for (std::size_t l = 0; l < n; ++l) {
       const double safe = s[l] > 0.0 ? s[l] : 1.0;  // singular lanes are redone below
       root[l] = root_of_order<P>(safe);
       slope[l] = power_series_from<1>(root[l], safe, 1.0 / P)[1];
     }
-    if (singular == 0) {
-      for (std::size_t l = 0; l < n; ++l)
-        outs[l] = detail::rp_from_factors(xs[l], ys[l], sign, root[l], slope[l], px[l], py[l]);
+    if (singular == 0) {  // detail::rp_from_factors
+      finish_by_component(x, y, out, start, n, root, sign, [&](std::size_t l, double, double, double a, double b) {
+        return sign * (slope[l] * (px[l] * a + py[l] * b));
+      });
       continue;
     }
     for (std::size_t l = 0; l < n; ++l) {
-      const bool regular = xs[l].c[0] != 0.0 && ys[l].c[0] != 0.0 && s[l] > 0.0;
-      outs[l] = regular ? detail::rp_from_factors(xs[l], ys[l], sign, root[l], slope[l], px[l], py[l])
-                        : rp_combine(xs[l], ys[l], P, sign);
+      const Tuple<N, 1> a = x.load(start + l), b = y.load(start + l);
+      const bool regular = x0[l] != 0.0 && y0[l] != 0.0 && s[l] > 0.0;
+      out.store(start + l, regular ? detail::rp_from_factors(a, b, sign, root[l], slope[l], px[l], py[l])
+                                   : rp_combine(a, b, P, sign));
     }
   }
 }
 
+// One lane of doubles or of tuples stored by component.
+inline double load_lane(const double* x, std::size_t l) { return x[l]; }
+inline void store_lane(double* out, std::size_t l, double value) { out[l] = value; }
+template <int N>
+Tuple<N, 1> load_lane(ConstLanes<N> x, std::size_t l) {
+  return x.load(l);
+}
+template <int N>
+void store_lane(Lanes<N> out, std::size_t l, const Tuple<N, 1>& value) {
+  out.store(l, value);
+}
+
 // p = 2, 4, 8 a vector at a time, any other p lane by lane.
-template <class T>
-[[gnu::always_inline]] inline void rp_lanes_of_order(const T* x, const T* y, T* out, std::size_t count, int p,
-                                                     double sign) {
+template <class In, class Out>
+[[gnu::always_inline]] inline void rp_lanes_of_order(In x, In y, Out out, std::size_t count, int p, double sign) {
   switch (p) {
     case 2: return rp_lanes<2>(x, y, out, count, sign);
     case 4: return rp_lanes<4>(x, y, out, count, sign);
     case 8: return rp_lanes<8>(x, y, out, count, sign);
     default:
-      for (std::size_t l = 0; l < count; ++l) out[l] = rp_combine(x[l], y[l], p, sign);
+      for (std::size_t l = 0; l < count; ++l) store_lane(out, l, rp_combine(load_lane(x, l), load_lane(y, l), p, sign));
   }
 }
 
@@ -158,12 +204,12 @@ SAGE_ALSO_AVX2 void r0_combine_lanes(const double* x, const double* y, double* o
     out[l] = x[l] + y[l] + sign * std::sqrt(r2 > 0 ? r2 : 0.0);
   }
 }
-SAGE_ALSO_AVX2 void r0_combine_lanes(const Tuple<2, 1>* x, const Tuple<2, 1>* y, Tuple<2, 1>* out, std::size_t count,
-                                     double sign) {
+SAGE_ALSO_AVX2 void r0_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
+                                     TupleLanes<Tuple<2, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
-SAGE_ALSO_AVX2 void r0_combine_lanes(const Tuple<3, 1>* x, const Tuple<3, 1>* y, Tuple<3, 1>* out, std::size_t count,
-                                     double sign) {
+SAGE_ALSO_AVX2 void r0_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
+                                     TupleLanes<Tuple<3, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
 
@@ -171,12 +217,12 @@ SAGE_ALSO_AVX2 void rp_combine_lanes(const double* x, const double* y, double* o
                                      double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
-SAGE_ALSO_AVX2 void rp_combine_lanes(const Tuple<2, 1>* x, const Tuple<2, 1>* y, Tuple<2, 1>* out, std::size_t count,
-                                     int p, double sign) {
+SAGE_ALSO_AVX2 void rp_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
+                                     TupleLanes<Tuple<2, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
-SAGE_ALSO_AVX2 void rp_combine_lanes(const Tuple<3, 1>* x, const Tuple<3, 1>* y, Tuple<3, 1>* out, std::size_t count,
-                                     int p, double sign) {
+SAGE_ALSO_AVX2 void rp_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
+                                     TupleLanes<Tuple<3, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
 

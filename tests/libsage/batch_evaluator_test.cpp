@@ -20,7 +20,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <set>
 
 namespace sage {
 namespace {
@@ -34,13 +36,15 @@ Points random_points(std::size_t count, std::uint64_t seed, double lo, double hi
   return points;
 }
 
-// Same bits (NaN equals NaN: both evaluators must agree on it too).
+// Same bits, the sign of a zero included (NaN equals NaN: both evaluators
+// must agree on it too).
 void expect_same(double batch, double single, const std::string& where) {
   if (std::isnan(single)) {
     EXPECT_TRUE(std::isnan(batch)) << where;
     return;
   }
   EXPECT_EQ(batch, single) << where;
+  EXPECT_EQ(std::signbit(batch), std::signbit(single)) << where << ": the sign of " << single;
 }
 
 template <class T>
@@ -97,6 +101,29 @@ TEST(BatchEvaluator, R0AndRpLanesAtTheCornerAndAtNaN) {
     expect_batch_equals_evaluator<double>(tape, points, 150);
     expect_batch_equals_evaluator<double>(tape, points, 64);
   }
+}
+
+TEST(BatchEvaluator, ComponentwiseOpsAtSignedZerosNaNAndInfinity) {
+  // Sums, negation, Axpby and Offset run a component at a time over tuples
+  // stored by component; their bits must be tuple.hpp's even where a zero's
+  // sign or a NaN's would tell (-0 + 0 = +0; x * -1 keeps a NaN's sign).
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr halfplane = 2.0 * x - 3.0 * y;  // Axpby
+  const Tape tape(std::vector<Expr>{halfplane + 1.0, -x + 0.5, -(x - y), -halfplane - y, x + y}, 2);
+  std::set<Op> ops;
+  for (const Instruction& ins : tape.code()) ops.insert(ins.op);
+  for (const Op op : {Op::Axpby, Op::Offset, Op::Neg, Op::Sub, Op::Add}) ASSERT_TRUE(ops.count(op)) << op_name(op);
+  Points points = random_points(70, 34, -1, 1);
+  const double inf = std::numeric_limits<double>::infinity();
+  points[0] = {-0.0, 0.0, 0};
+  points[1] = {0.0, -0.0, 0};
+  points[2] = {-0.0, -0.0, 0};
+  points[3] = {std::nan(""), -0.0, 0};
+  points[4] = {-std::nan(""), 1.0, 0};
+  points[5] = {inf, -inf, 0};
+  points[6] = {inf, inf, 0};
+  expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
+  expect_batch_equals_evaluator<Tuple<2, 2>>(tape, points, 16);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

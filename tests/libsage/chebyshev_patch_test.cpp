@@ -155,27 +155,31 @@ void expect_rows_match_points(const ChebyshevPatch& patch, const Box& box, std::
   std::vector<std::array<double, 2>> rows(N == 1 ? 1 : 4);
   for (auto& row : rows) row = {test::uniform(rng, box[1].lo, box[1].hi), test::uniform(rng, box[2].lo, box[2].hi)};
   const std::size_t count = xs.size() * rows.size();
-  std::vector<Tuple<N, 1>> vars[3], out(count);
+  // Tuples stored by component, as BatchEvaluator keeps them.
+  std::vector<double> var_storage[3], out_storage((N + 1) * count);
   std::vector<double> values(count);
-  for (int a = 0; a < N; ++a) vars[a].resize(count);
-  for (std::size_t p = 0; p < count; ++p) {
-    const double coordinates[3] = {xs[p % xs.size()], rows[p / xs.size()][0], rows[p / xs.size()][1]};
-    for (int a = 0; a < N; ++a) {
-      vars[a][p] = Tuple<N, 1>::variable(a, coordinates[a]);
-      vars[a][p].c[1] += 0.25 * (a + 1);  // a gradient that is not a unit seed
+  std::array<ConstTupleLanes<Tuple<N, 1>>, 3> vars{};
+  for (int a = 0; a < N; ++a) {
+    var_storage[a].resize((N + 1) * count);
+    const TupleLanes<Tuple<N, 1>> lanes{var_storage[a].data(), count};
+    for (std::size_t p = 0; p < count; ++p) {
+      const double coordinates[3] = {xs[p % xs.size()], rows[p / xs.size()][0], rows[p / xs.size()][1]};
+      auto var = Tuple<N, 1>::variable(a, coordinates[a]);
+      var.c[1] += 0.25 * (a + 1);  // a gradient that is not a unit seed
+      lanes.store(p, var);
     }
+    vars[a] = lanes;
   }
-  const Tuple<N, 1>* var_lanes[3] = {vars[0].data(), N > 1 ? vars[1].data() : nullptr,
-                                     N > 2 ? vars[2].data() : nullptr};
-  const double* no_vars[3] = {nullptr, nullptr, nullptr};
-  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), var_lanes, out.data());
-  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), no_vars, values.data());
+  const TupleLanes<Tuple<N, 1>> out{out_storage.data(), count};
+  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), vars.data(), out);
+  patch.evaluate_rows(xs.data(), xs.size(), rows.data(), rows.size(), values.data());
   for (std::size_t p = 0; p < count; ++p) {
     Tuple<N, 1> point[N];
     double coordinates[N];
-    for (int a = 0; a < N; ++a) point[a] = vars[a][p], coordinates[a] = point[a].value();
+    for (int a = 0; a < N; ++a) point[a] = vars[a].load(p), coordinates[a] = point[a].value();
     const Tuple<N, 1> expected = patch.evaluate(point);
-    for (int c = 0; c <= N; ++c) ASSERT_EQ(out[p].c[c], expected.c[c]) << "point " << p << " coefficient " << c;
+    const Tuple<N, 1> got = out.load(p);
+    for (int c = 0; c <= N; ++c) ASSERT_EQ(got.c[c], expected.c[c]) << "point " << p << " coefficient " << c;
     ASSERT_EQ(values[p], patch.evaluate(coordinates)) << "point " << p;
   }
 }

@@ -8,8 +8,12 @@
 // dispatching. The arithmetic is apply_op, the same as Evaluator's, so the
 // numbers are the same, bit for bit.
 //
-// Registers are stored register-major: lane l of register r is
-// regs_[r * width + l].
+// Registers are stored register-major and, for tuples, by component
+// (tuple_lanes.hpp): coefficient k of lane l of register r is
+// data_[(r * components + k) * width + l]. So an instruction reads and
+// writes whole arrays of one component, and the kernels for R-functions
+// and patches vectorize without shuffling tuples apart (64 lanes of
+// Tuple<2, 1> through R0: 2.0 ns a lane, against 3.75 ns as tuples).
 //
 //     BatchEvaluator<Tuple<2, 1>> batch(tape, 64);
 //     batch.evaluate(points.data(), points.size());   // at most 64 points
@@ -17,6 +21,7 @@
 
 #include <sage/evaluator.hpp>
 #include <sage/rfunction_lanes.hpp>
+#include <sage/tuple_lanes.hpp>
 
 #include <array>
 #include <cstddef>
@@ -37,9 +42,10 @@ class BatchEvaluator {
   void rebind(const Tape& tape, std::size_t width) {
     tape_ = &tape;
     width_ = width;
-    if (regs_.size() < tape.register_count() * width) regs_.resize(tape.register_count() * width);
+    const std::size_t doubles = tape.register_count() * kComponents * width;
+    if (data_.size() < doubles) data_.resize(doubles);
     for (const auto& [r, c] : tape.constants())
-      for (std::size_t l = 0; l < width; ++l) regs_[r * width + l] = T(c);
+      for (std::size_t l = 0; l < width; ++l) store(r, l, T(c));
   }
 
   std::size_t width() const { return width_; }
@@ -47,10 +53,9 @@ class BatchEvaluator {
   /// Evaluates every root at points[0..count-1], count <= width().
   void evaluate(const std::array<double, 3>* points, std::size_t count) {
     count_ = count;
-    for (int v = 0; v < tape_->dimension(); ++v) {
-      T* lanes = lanes_of(static_cast<std::uint32_t>(v));
-      for (std::size_t l = 0; l < count; ++l) lanes[l] = Seed<T>::variable(v, points[l][v]);
-    }
+    for (int v = 0; v < tape_->dimension(); ++v)
+      for (std::size_t l = 0; l < count; ++l)
+        store(static_cast<std::uint32_t>(v), l, Seed<T>::variable(v, points[l][v]));
     run(nullptr);
   }
 
@@ -61,26 +66,23 @@ class BatchEvaluator {
   /// evaluate_rows), about five times cheaper than point by point.
   void evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count) {
     count_ = nx * row_count;
-    for (int v = 0; v < tape_->dimension(); ++v) {
-      T* lanes = lanes_of(static_cast<std::uint32_t>(v));
+    for (int v = 0; v < tape_->dimension(); ++v)
       for (std::size_t r = 0; r < row_count; ++r)
         for (std::size_t i = 0; i < nx; ++i)
-          lanes[r * nx + i] = Seed<T>::variable(v, v == 0 ? xs[i] : rows[r][static_cast<std::size_t>(v - 1)]);
-    }
+          store(static_cast<std::uint32_t>(v), r * nx + i,
+                Seed<T>::variable(v, v == 0 ? xs[i] : rows[r][static_cast<std::size_t>(v - 1)]));
     const Rows layout{xs, nx, rows, row_count};
     run(&layout);
   }
 
   /// Root `root` at point `lane` of the last batch.
-  const T& result(std::size_t lane, std::size_t root = 0) const {
-    return regs_[tape_->results()[root] * width_ + lane];
-  }
+  T result(std::size_t lane, std::size_t root = 0) const { return load(tape_->results()[root], lane); }
 
   /// One point's results, shaped like an Evaluator's (result(root)).
   class Point {
    public:
     Point(const BatchEvaluator& batch, std::size_t lane) : batch_(&batch), lane_(lane) {}
-    const T& result(std::size_t root = 0) const { return batch_->result(lane_, root); }
+    T result(std::size_t root = 0) const { return batch_->result(lane_, root); }
 
    private:
     const BatchEvaluator* batch_;
@@ -89,7 +91,34 @@ class BatchEvaluator {
   Point point(std::size_t lane) const { return Point(*this, lane); }
 
  private:
-  T* lanes_of(std::uint32_t r) { return regs_.data() + static_cast<std::size_t>(r) * width_; }
+  static constexpr int components() {
+    if constexpr (std::is_same_v<T, double>)
+      return 1;
+    else
+      return T::size;
+  }
+  static constexpr int kComponents = components();
+
+  // Register r's lanes of component k.
+  double* component(std::uint32_t r, int k = 0) {
+    return data_.data() + (static_cast<std::size_t>(r) * kComponents + static_cast<std::size_t>(k)) * width_;
+  }
+  const double* component(std::uint32_t r, int k = 0) const {
+    return data_.data() + (static_cast<std::size_t>(r) * kComponents + static_cast<std::size_t>(k)) * width_;
+  }
+  TupleLanes<T> lanes_of(std::uint32_t r) { return {component(r), width_}; }
+  T load(std::uint32_t r, std::size_t l) const {
+    if constexpr (std::is_same_v<T, double>)
+      return component(r)[l];
+    else
+      return ConstTupleLanes<T>{component(r), width_}.load(l);
+  }
+  void store(std::uint32_t r, std::size_t l, const T& value) {
+    if constexpr (std::is_same_v<T, double>)
+      component(r)[l] = value;
+    else
+      lanes_of(r).store(l, value);
+  }
 
   // evaluate_rows()'s points.
   struct Rows {
@@ -108,9 +137,14 @@ class BatchEvaluator {
     for (const Instruction& ins : tape_->code()) {
       if constexpr (kLaneKernels) {
         if (ins.op == Op::Patch && layout) {
-          const T* vars[3] = {nullptr, nullptr, nullptr};
-          for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
-          ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, vars, lanes_of(ins.out));
+          if constexpr (std::is_same_v<T, double>) {
+            ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, component(ins.out));
+          } else {
+            std::array<ConstTupleLanes<T>, 3> vars{};
+            for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
+            ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, vars.data(),
+                                     lanes_of(ins.out));
+          }
           continue;
         }
       }
@@ -118,46 +152,93 @@ class BatchEvaluator {
         run_pointwise(ins);
         continue;
       }
-      T* out = lanes_of(ins.out);
-      const T* a = lanes_of(ins.a);
-      const T* b = lanes_of(ins.b);
       // R0 and Rp trees of values, or of value and gradient: their roots
       // and divisions a vector at a time (the same numbers).
       if constexpr (kLaneKernels) {
         if (ins.op == Op::RAnd || ins.op == Op::ROr) {
           const auto kind = static_cast<RKind>(static_cast<int>(ins.p0));
           const double sign = ins.op == Op::RAnd ? -1.0 : 1.0;
-          if (kind == RKind::R0) {
-            r0_combine_lanes(a, b, out, count, sign);
-            continue;
-          }
-          if (kind == RKind::Rp) {
-            rp_combine_lanes(a, b, out, count, static_cast<int>(ins.p1), sign);
+          if (kind == RKind::R0 || kind == RKind::Rp) {
+            const auto a = lanes_or_doubles(ins.a), b = lanes_or_doubles(ins.b);
+            const auto out = lanes_or_doubles(ins.out);
+            if (kind == RKind::R0)
+              r0_combine_lanes(a, b, out, count, sign);
+            else
+              rp_combine_lanes(a, b, out, count, static_cast<int>(ins.p1), sign);
             continue;
           }
         }
       }
+      if constexpr (kComponents > 1) {
+        if (run_by_component(ins, count)) continue;
+      }
       // Elementwise, so an output register shared with an argument is safe.
       visit_op(ins.op, [&](auto op) {
-        for (std::size_t l = 0; l < count; ++l) out[l] = apply_op<decltype(op)::value>(ins, a[l], b[l]);
+        for (std::size_t l = 0; l < count; ++l)
+          store(ins.out, l, apply_op<decltype(op)::value>(ins, load(ins.a, l), load(ins.b, l)));
       });
     }
   }
 
+  // Tuple ops that treat every coefficient alike (sums, negation, the
+  // halfplanes' Axpby and Offset), a component at a time: the arithmetic of
+  // tuple.hpp's operators, so the same numbers as apply_op. Each lane reads
+  // its arguments before it writes, hence ivdep. False for other ops.
+  bool run_by_component(const Instruction& ins, std::size_t count) {
+    const Op op = ins.op;
+    if (op != Op::Add && op != Op::Sub && op != Op::Neg && op != Op::Axpby && op != Op::Offset) return false;
+    for (int k = 0; k < kComponents; ++k) {
+      const double* a = component(ins.a, k);
+      const double* b = component(ins.b, k);
+      double* out = component(ins.out, k);
+      const double p0 = ins.p0, p1 = ins.p1;
+      const double offset = k == 0 ? p0 : 0.0;  // a + T(p0)
+      switch (op) {
+        case Op::Add:
+#pragma GCC ivdep
+          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] + b[l];
+          break;
+        case Op::Sub:
+#pragma GCC ivdep
+          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] - b[l];
+          break;
+        case Op::Neg:  // a *= -1.0
+#pragma GCC ivdep
+          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] * -1.0;
+          break;
+        case Op::Axpby:
+#pragma GCC ivdep
+          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] * p0 + b[l] * p1;
+          break;
+        default:  // Offset
+#pragma GCC ivdep
+          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] + offset;
+      }
+    }
+    return true;
+  }
+
+  // The kernels' view of a register: its doubles, or its tuple lanes.
+  auto lanes_or_doubles(std::uint32_t r) {
+    if constexpr (std::is_same_v<T, double>)
+      return component(r);
+    else
+      return lanes_of(r);
+  }
+
   // Classifiers and patches read the point's variables: gather them per lane.
   void run_pointwise(const Instruction& ins) {
-    T* out = lanes_of(ins.out);
     for (std::size_t l = 0; l < count_; ++l) {
       std::array<T, 3> vars{};
-      for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v))[l];
-      out[l] = evaluate_instruction<T>(ins, vars.data());
+      for (int v = 0; v < tape_->dimension(); ++v) vars[v] = load(static_cast<std::uint32_t>(v), l);
+      store(ins.out, l, evaluate_instruction<T>(ins, vars.data()));
     }
   }
 
   const Tape* tape_;
   std::size_t width_;
   std::size_t count_ = 0;
-  std::vector<T> regs_;
+  std::vector<double> data_;
 };
 
 }  // namespace sage

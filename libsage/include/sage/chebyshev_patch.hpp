@@ -29,6 +29,7 @@
 // Ownership: patches are immutable and shared by the tapes that use them.
 
 #include <sage/interval.hpp>
+#include <sage/tuple_lanes.hpp>
 
 #include <array>
 #include <memory>
@@ -76,11 +77,14 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   /// operations in the same order). Grid blocks and fit samples are such
   /// grids: the factors in y and z are summed once per row and the basis in
   /// x once for all rows, about five times less work than point by point.
-  /// T is double or a first-order tuple; for tuples, vars[a][p] is variable
-  /// a at point p, which carries the gradient through as in evaluate().
-  template <class T>
   void evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count,
-                     const T* const* vars, T* out) const;
+                     double* out) const;
+  /// The same in first-order tuples stored by component (BatchEvaluator's
+  /// registers): vars[a].load(p) is variable a at point p, which carries
+  /// the gradient through as in evaluate(). out may share lanes with vars.
+  template <int N>
+  void evaluate_rows(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count,
+                     const ConstTupleLanes<Tuple<N, 1>>* vars, TupleLanes<Tuple<N, 1>> out) const;
 
  private:
   ChebyshevPatch() = default;
@@ -91,6 +95,12 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   // Defined for Tuple<1..3, 1>.
   template <class T>
   T evaluate_first_order(const T* vars) const;
+
+  // Both evaluate_rows(): T is double (Vars, Out: nullptr_t, double*) or a
+  // first-order tuple (tuple lanes).
+  template <class T, class Vars, class Out>
+  void rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows, std::size_t row_count, Vars vars,
+                 Out out) const;
 
   // The sums over the y and z degrees at one (y, z), for each x degree.
   struct RowFactors;
