@@ -1,19 +1,26 @@
-// R-function kernels over a batch's lanes (rfunction_lanes.hpp): R0 and
-// rp:4 of 64 first-order tuples stored by component, as BatchEvaluator
-// keeps its registers, beside the baseline of the same numbers computed a
-// tuple at a time (r0_combine / rp_combine over an array of tuples).
+// Kernels over a batch's lanes: R0 and rp:4 of 64 first-order tuples
+// stored by component, as BatchEvaluator keeps its registers
+// (rfunction_lanes.hpp), beside the baseline of the same numbers computed a
+// tuple at a time (r0_combine / rp_combine over an array of tuples); and a
+// Chebyshev patch of degree 10 over a leaf batch of 4 rows of 16 points
+// (ChebyshevPatch::evaluate_rows) beside the same patch point by point.
 //
 // Prints Google Benchmark's table, then each kernel's time per lane as a
-// ratio to its baseline measured in the same run.
+// ratio to its baseline measured in the same run (by component against a
+// tuple at a time, rows against point by point).
 
+#include <sage/chebyshev_patch.hpp>
 #include <sage/rfunction.hpp>
 #include <sage/rfunction_lanes.hpp>
 
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -79,6 +86,74 @@ BENCHMARK(BM_by_component<0>);
 BENCHMARK(BM_tuple_at_a_time<4>);
 BENCHMARK(BM_by_component<4>);
 
+// A patch of degree 10 (the most far-field approximation's sampling degree
+// 12 allows) of a field with a pole near the box, and a leaf batch: 4 rows
+// of 16 points, as 64-point batches of 16 x 16 blocks are.
+constexpr std::size_t kRowPoints = 16, kRows = kLanes / kRowPoints;
+const sage::Interval kPatchBox[3] = {sage::Interval(-1, 1), sage::Interval(-1, 1), sage::Interval(0.0)};
+
+std::shared_ptr<const sage::ChebyshevPatch> degree_10_patch() {
+  const int n = 12;
+  std::vector<double> f(static_cast<std::size_t>((n + 1) * (n + 1)));
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    const auto p = sage::ChebyshevPatch::sample_point(kPatchBox, 2, n, k);
+    f[k] = 1.0 / (3.0 - p[0] - 0.5 * p[1]);
+  }
+  for (double tolerance = 1e-12; tolerance < 1; tolerance *= 2)
+    if (auto patch = sage::ChebyshevPatch::fit(kPatchBox, 2, n, f, tolerance)) {
+      if (patch->degree() != 10) break;
+      return patch;
+    }
+  throw std::logic_error("the benchmark's patch should have degree 10");
+}
+
+// The batch's variables x and y, by component, and the points' coordinates.
+struct PatchBatch {
+  std::vector<double> xs = std::vector<double>(kRowPoints);
+  std::vector<std::array<double, 2>> rows = std::vector<std::array<double, 2>>(kRows);
+  std::vector<double> vars[2], out = std::vector<double>(T::size * kLanes);
+  PatchBatch() {
+    for (std::size_t i = 0; i < kRowPoints; ++i) xs[i] = -0.9 + 0.1 * static_cast<double>(i);
+    for (std::size_t r = 0; r < kRows; ++r) rows[r] = {-0.7 + 0.4 * static_cast<double>(r), 0.0};
+    for (int a = 0; a < 2; ++a) {
+      vars[a].resize(T::size * kLanes);
+      const sage::TupleLanes<T> lanes{vars[a].data(), kLanes};
+      for (std::size_t p = 0; p < kLanes; ++p)
+        lanes.store(p, T::variable(a, a == 0 ? xs[p % kRowPoints] : rows[p / kRowPoints][0]));
+    }
+  }
+  T variable(int a, std::size_t p) const { return sage::ConstTupleLanes<T>{vars[a].data(), kLanes}.load(p); }
+};
+
+void BM_patch_point_by_point(benchmark::State& state) {
+  const auto patch = degree_10_patch();
+  PatchBatch batch;
+  std::vector<T> out(kLanes);
+  for (auto _ : state) {
+    for (std::size_t p = 0; p < kLanes; ++p) {
+      const T at[2] = {batch.variable(0, p), batch.variable(1, p)};
+      out[p] = patch->evaluate(at);
+    }
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+void BM_patch_rows(benchmark::State& state) {
+  const auto patch = degree_10_patch();
+  PatchBatch batch;
+  const sage::ConstTupleLanes<T> vars[2] = {{batch.vars[0].data(), kLanes}, {batch.vars[1].data(), kLanes}};
+  for (auto _ : state) {
+    patch->evaluate_rows(batch.xs.data(), kRowPoints, batch.rows.data(), kRows, vars,
+                         sage::TupleLanes<T>{batch.out.data(), kLanes});
+    benchmark::DoNotOptimize(batch.out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+BENCHMARK(BM_patch_point_by_point);
+BENCHMARK(BM_patch_rows);
+
 // Keeps each run's time per lane for the ratios printed at the end.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
@@ -87,12 +162,15 @@ class RatioReporter : public benchmark::ConsoleReporter {
     for (const Run& run : runs) ns_per_lane_[run.benchmark_name()] = run.GetAdjustedCPUTime() / kLanes;
   }
   void print_ratios() const {
-    std::printf("\nns per lane, by component against a tuple at a time (same run):\n");
-    for (const char* p : {"0", "4"}) {
-      const double base = ns_per_lane_.at(std::string("BM_tuple_at_a_time<") + p + ">");
-      const double fast = ns_per_lane_.at(std::string("BM_by_component<") + p + ">");
-      std::printf("  %-5s %6.2f ns against %6.2f ns: %.2fx\n", *p == '0' ? "r0" : "rp:4", fast, base, base / fast);
-    }
+    auto ratio = [&](const char* what, const std::string& fast, const std::string& base) {
+      if (!ns_per_lane_.count(fast) || !ns_per_lane_.count(base)) return;  // filtered out
+      const double f = ns_per_lane_.at(fast), b = ns_per_lane_.at(base);
+      std::printf("  %-7s %6.2f ns against %6.2f ns: %.2fx\n", what, f, b, b / f);
+    };
+    std::printf("\nns per lane against the baseline of the same numbers (same run):\n");
+    ratio("r0", "BM_by_component<0>", "BM_tuple_at_a_time<0>");
+    ratio("rp:4", "BM_by_component<4>", "BM_tuple_at_a_time<4>");
+    ratio("patch", "BM_patch_rows", "BM_patch_point_by_point");
   }
 
  private:

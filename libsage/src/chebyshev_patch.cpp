@@ -1,6 +1,8 @@
 #include <sage/chebyshev_patch.hpp>
 #include <sage/tuple.hpp>
 
+#include "also_avx2.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -51,6 +53,46 @@ bool lines_exceed_tail(const std::vector<double>& f, int dimension, int n, const
   return false;
 }
 
+/// The discrete Chebyshev transform of c along each axis in turn (a line:
+/// the m values whose indices differ in axis a only), c_i = (i ? 2 : 1) /
+/// m * sum_k c_k T_i(node k), each sum in the order of k; next is scratch
+/// of c's size. The sums of an axis run side by side, a vector lane each
+/// (along axis 0, whose lines are contiguous, the m sums of one line), so
+/// that no addition waits on the one before. t as in lines_exceed_tail(),
+/// then its transpose.
+void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>& t, std::vector<double>& c,
+                         std::vector<double>& next) {
+  constexpr std::size_t kMaxNodes = 17;  // n <= 16
+  double acc[kMaxNodes * kMaxNodes];
+  const double* transposed = &t[m * m];
+  const std::size_t total = c.size();
+  std::size_t stride = 1;
+  for (int a = 0; a < dimension; ++a, stride *= m) {
+    for (std::size_t outer = 0; outer < total; outer += stride * m) {
+      if (stride == 1) {
+        for (std::size_t i = 0; i < m; ++i) acc[i] = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+          const double ck = c[outer + k];
+          for (std::size_t i = 0; i < m; ++i) acc[i] += ck * transposed[k * m + i];
+        }
+        for (std::size_t i = 0; i < m; ++i) next[outer + i] = acc[i] * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
+        continue;
+      }
+      for (std::size_t i = 0; i < m; ++i) {
+        for (std::size_t inner = 0; inner < stride; ++inner) acc[inner] = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+          const double tik = t[i * m + k];
+          const double* line = &c[outer + k * stride];
+          for (std::size_t inner = 0; inner < stride; ++inner) acc[inner] += line[inner] * tik;
+        }
+        for (std::size_t inner = 0; inner < stride; ++inner)
+          next[outer + i * stride + inner] = acc[inner] * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
+      }
+    }
+    std::swap(c, next);
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, int dimension, int n,
@@ -70,34 +112,20 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   thread_local std::vector<double> t;
   thread_local std::size_t t_size = 0;
   if (t_size != m) {
-    t.resize(m * m);
+    t.resize(2 * m * m);  // then the transpose, T_i at node k in t[m * m + k * m + i]
     for (std::size_t i = 0; i < m; ++i)
       for (std::size_t k = 0; k < m; ++k)
-        t[i * m + k] = std::cos(std::numbers::pi * static_cast<double>(i) * (static_cast<double>(k) + 0.5) /
-                                static_cast<double>(m));
+        t[i * m + k] = t[m * m + k * m + i] = std::cos(std::numbers::pi * static_cast<double>(i) *
+                                                       (static_cast<double>(k) + 0.5) / static_cast<double>(m));
     t_size = m;
   }
 
   if (lines_exceed_tail(f, dimension, n, t, tolerance)) return nullptr;
 
-  // The discrete Chebyshev transform along each axis in turn, line by line
-  // (a line: the m values whose indices differ in axis a only).
   thread_local std::vector<double> c, next;
   c.assign(f.begin(), f.end());
   next.resize(total);
-  std::size_t stride = 1;
-  for (int a = 0; a < dimension; ++a, stride *= m) {
-    for (std::size_t outer = 0; outer < total; outer += stride * m)
-      for (std::size_t inner = 0; inner < stride; ++inner) {
-        const std::size_t base = outer + inner;
-        for (std::size_t i = 0; i < m; ++i) {
-          double s = 0;
-          for (std::size_t k = 0; k < m; ++k) s += c[base + k * stride] * t[i * m + k];
-          next[base + i * stride] = s * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
-        }
-      }
-    std::swap(c, next);
-  }
+  chebyshev_transform(dimension, m, t, c, next);
 
   // Sum of |c| by total degree, then the smallest degree whose tail fits.
   auto degrees = [&](std::size_t index) {
@@ -105,7 +133,7 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
     for (int a = 0; a < dimension; ++a, index /= m) alpha[a] = static_cast<int>(index % m);
     return alpha;
   };
-  std::vector<double> by_degree(static_cast<std::size_t>(dimension * n + 1), 0.0);
+  std::array<double, 3 * 16 + 1> by_degree{};  // up to total degree dimension * n
   for (std::size_t index = 0; index < total; ++index) {
     const auto alpha = degrees(index);
     by_degree[static_cast<std::size_t>(alpha[0] + alpha[1] + alpha[2])] += std::abs(c[index]);
@@ -150,15 +178,12 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   return patch;
 }
 
-/// For each x degree i, the sum over the other degrees at one (y, z),
-/// e[i], and its derivatives in v = u_y, ev[i], and w = u_z, ew[i] (zero
-/// along axes the patch does not have).
-struct ChebyshevPatch::RowFactors {
-  static constexpr int kMaxDegree = 16;
-  double e[kMaxDegree + 1], ev[kMaxDegree + 1], ew[kMaxDegree + 1];
-};
-
 namespace {
+
+constexpr int kMaxDegree = 16;        // fit() refuses larger sampling degrees
+constexpr std::size_t kLanes = 64;    // points of a row, or rows, per pass
+constexpr std::size_t kBlock = 8;     // points whose sums over x degrees stay in registers
+constexpr std::size_t kRowBlock = 4;  // rows whose sums over y degrees stay in registers
 
 /// T_0..T_d and their derivatives at u, by T_k' = 2 T_{k-1} + 2 u T_{k-1}' - T_{k-2}'.
 void basis_with_derivative(double u, int d, double* t, double* dt) {
@@ -171,10 +196,31 @@ void basis_with_derivative(double u, int d, double* t, double* dt) {
   }
 }
 
+/// basis_with_derivative() at u[0..n), a lane each: T_k(u[l]) in t[k][l].
+[[gnu::always_inline]] inline void basis_lanes(const double* u, std::size_t n, int d, double (*t)[kLanes],
+                                               double (*dt)[kLanes]) {
+  for (std::size_t l = 0; l < n; ++l) {
+    t[0][l] = 1.0;
+    dt[0][l] = 0.0;
+    if (d >= 1) t[1][l] = u[l], dt[1][l] = 1.0;
+  }
+  for (int k = 2; k <= d; ++k)
+    for (std::size_t l = 0; l < n; ++l) {
+      t[k][l] = 2.0 * u[l] * t[k - 1][l] - t[k - 2][l];
+      dt[k][l] = 2.0 * t[k - 1][l] + 2.0 * u[l] * dt[k - 1][l] - dt[k - 2][l];
+    }
+}
+
 }  // namespace
 
+/// For each x degree i, the sum over the other degrees at one (y, z),
+/// e[i], and its derivatives in v = u_y, ev[i], and w = u_z, ew[i] (zero
+/// along axes the patch does not have).
+struct ChebyshevPatch::RowFactors {
+  double e[kMaxDegree + 1], ev[kMaxDegree + 1], ew[kMaxDegree + 1];
+};
+
 ChebyshevPatch::RowFactors ChebyshevPatch::row_factors(const std::array<double, 2>& row) const {
-  constexpr int kMaxDegree = RowFactors::kMaxDegree;
   const int d = degree_;
   RowFactors f;
   const double* c = coefficients_.data();
@@ -213,6 +259,64 @@ ChebyshevPatch::RowFactors ChebyshevPatch::row_factors(const std::array<double, 
   return f;
 }
 
+struct ChebyshevPatch::RowFactorLanes {
+  double e[kMaxDegree + 1][kLanes], ev[kMaxDegree + 1][kLanes], ew[kMaxDegree + 1][kLanes];
+};
+
+SAGE_ALSO_AVX2 void ChebyshevPatch::row_factor_lanes(const std::array<double, 2>* rows, std::size_t count,
+                                                     RowFactorLanes& f) const {
+  const int d = degree_;
+  const double* c = coefficients_.data();
+  if (dimension_ == 1) {
+    for (int i = 0; i <= d; ++i)
+      for (std::size_t r = 0; r < count; ++r) f.e[i][r] = c[i], f.ev[i][r] = f.ew[i][r] = 0.0;
+    return;
+  }
+  // Rows past count, up to a whole block, at the centre: computed, never read.
+  const std::size_t padded = (count + kRowBlock - 1) / kRowBlock * kRowBlock;
+  double u[kLanes] = {}, t1[kMaxDegree + 1][kLanes], dt1[kMaxDegree + 1][kLanes];
+  for (std::size_t r = 0; r < padded; ++r) u[r] = r < count ? (rows[r][0] - centre_[1]) * inverse_half_[1] : 0.0;
+  basis_lanes(u, padded, d, t1, dt1);
+  if (dimension_ == 2) {
+    // row_factors()' sums, kRowBlock rows at a time so that they stay in
+    // registers: independent sums instead of one chain of additions.
+    for (std::size_t first = 0; first < padded; first += kRowBlock) {
+      const double* ci = c;
+      for (int i = 0; i <= d; ++i) {
+        double inner[kRowBlock] = {}, inner_v[kRowBlock] = {};
+        for (int j = 0; j <= d - i; ++j, ++ci)
+          for (std::size_t q = 0; q < kRowBlock; ++q) {
+            inner[q] = inner[q] + *ci * t1[j][first + q];
+            inner_v[q] += *ci * dt1[j][first + q];
+          }
+        for (std::size_t q = 0; q < kRowBlock; ++q)
+          f.e[i][first + q] = inner[q], f.ev[i][first + q] = inner_v[q], f.ew[i][first + q] = 0.0;
+      }
+    }
+    return;
+  }
+  double t2[kMaxDegree + 1][kLanes], dt2[kMaxDegree + 1][kLanes];
+  for (std::size_t r = 0; r < padded; ++r) u[r] = r < count ? (rows[r][1] - centre_[2]) * inverse_half_[2] : 0.0;
+  basis_lanes(u, padded, d, t2, dt2);
+  for (int i = 0; i <= d; ++i) {
+    double middle[kLanes] = {}, middle_v[kLanes] = {}, middle_w[kLanes] = {};
+    for (int j = 0; j <= d - i; ++j) {
+      double inner[kLanes] = {}, inner_w[kLanes] = {};
+      for (int k = 0; k <= d - i - j; ++k, ++c)
+        for (std::size_t r = 0; r < count; ++r) {
+          inner[r] = inner[r] + *c * t2[k][r];
+          inner_w[r] += *c * dt2[k][r];
+        }
+      for (std::size_t r = 0; r < count; ++r) {
+        middle[r] = middle[r] + inner[r] * t1[j][r];
+        middle_v[r] += inner[r] * dt1[j][r];
+        middle_w[r] += inner_w[r] * t1[j][r];
+      }
+    }
+    for (std::size_t r = 0; r < count; ++r) f.e[i][r] = middle[r], f.ev[i][r] = middle_v[r], f.ew[i][r] = middle_w[r];
+  }
+}
+
 template <class T>
 T ChebyshevPatch::chain_rule(double value, const double* partial, const T* const* at) const {
   T r(value);
@@ -225,7 +329,6 @@ T ChebyshevPatch::chain_rule(double value, const double* partial, const T* const
 
 template <class T>
 T ChebyshevPatch::evaluate_first_order(const T* vars) const {
-  constexpr int kMaxDegree = RowFactors::kMaxDegree;
   const RowFactors f = row_factors({dimension_ > 1 ? vars[1].value() : 0.0, dimension_ > 2 ? vars[2].value() : 0.0});
   double t[kMaxDegree + 1], dt[kMaxDegree + 1];
   basis_with_derivative((vars[0].value() - centre_[0]) * inverse_half_[0], degree_, t, dt);
@@ -241,72 +344,88 @@ T ChebyshevPatch::evaluate_first_order(const T* vars) const {
 }
 
 template <class T, class Vars, class Out>
-void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
-                               std::size_t row_count, Vars vars, Out out) const {
+SAGE_ALSO_AVX2 void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+                                              std::size_t row_count, Vars vars, Out out) const {
   constexpr bool kGradient = !std::is_same_v<T, double>;
-  constexpr std::size_t kChunk = 64;  // points of a row per pass
-  constexpr int kMaxDegree = RowFactors::kMaxDegree;
   const int d = degree_;
-  double t0[kMaxDegree + 1][kChunk], dt0[kMaxDegree + 1][kChunk];
-  double sum[kChunk], p0[kChunk], p1[kChunk], p2[kChunk];
-  // The sums over the x degrees, with the partials along `axes` axes (the
-  // others stay zero): evaluate_first_order's loop, a lane per point.
-  auto sum_lanes = [&]<int axes>(const RowFactors& f, std::size_t n) {
-    for (int i = 0; i <= d; ++i)
-      for (std::size_t l = 0; l < n; ++l) {
-        sum[l] = sum[l] + f.e[i] * t0[i][l];
-        if constexpr (axes >= 1) p0[l] += f.e[i] * dt0[i][l];
-        if constexpr (axes >= 2) p1[l] += f.ev[i] * t0[i][l];
-        if constexpr (axes >= 3) p2[l] += f.ew[i] * t0[i][l];
-      }
-  };
-  for (std::size_t first = 0; first < nx; first += kChunk) {
-    const std::size_t n = std::min(kChunk, nx - first);
-    // The basis in x, shared by every row.
-    double u[kChunk];
-    for (std::size_t l = 0; l < n; ++l) {
-      u[l] = (xs[first + l] - centre_[0]) * inverse_half_[0];
-      t0[0][l] = 1.0;
-      dt0[0][l] = 0.0;
-      if (d >= 1) t0[1][l] = u[l], dt0[1][l] = 1.0;
-    }
-    for (int k = 2; k <= d; ++k)
-      for (std::size_t l = 0; l < n; ++l) {
-        t0[k][l] = 2.0 * u[l] * t0[k - 1][l] - t0[k - 2][l];
-        dt0[k][l] = 2.0 * t0[k - 1][l] + 2.0 * u[l] * dt0[k - 1][l] - dt0[k - 2][l];
-      }
-    for (std::size_t r = 0; r < row_count; ++r) {
-      const RowFactors f = row_factors(rows[r]);
-      for (std::size_t l = 0; l < n; ++l) sum[l] = p0[l] = p1[l] = p2[l] = 0.0;
-      if (!kGradient)
-        sum_lanes.template operator()<0>(f, n);
-      else if (dimension_ == 1)
-        sum_lanes.template operator()<1>(f, n);
-      else if (dimension_ == 2)
-        sum_lanes.template operator()<2>(f, n);
-      else
-        sum_lanes.template operator()<3>(f, n);
-      const std::size_t base = r * nx + first;
-      if constexpr (kGradient) {
-        // chain_rule() a component at a time: each gradient component is
-        // 0 + the sum over the axes of partial * inverse_half * the
-        // variable's component, in the order of the axes; then the value.
-        // (Each lane reads its variables before it writes: out may be one.)
-        const double* partial[3] = {p0, p1, p2};
-        for (int q = 1; q < T::size; ++q) {
-          double acc[kChunk];
-          for (std::size_t l = 0; l < n; ++l) acc[l] = 0.0;
-          for (int a = 0; a < dimension_; ++a) {
-            const double* v = vars[a].component(q) + base;
-            for (std::size_t l = 0; l < n; ++l) acc[l] += partial[a][l] * inverse_half_[a] * v[l];
-          }
-          double* o = out.component(q) + base;
-          for (std::size_t l = 0; l < n; ++l) o[l] = acc[l];
+  double t0[kMaxDegree + 1][kLanes], dt0[kMaxDegree + 1][kLanes];
+  double sum[kLanes], p0[kLanes], p1[kLanes], p2[kLanes];
+  RowFactorLanes f;
+  // The sums over the x degrees at row r, with the partials along `axes`
+  // axes (the others stay zero): evaluate_first_order's loop, a lane per
+  // point, kBlock lanes at a time so that the sums stay in registers.
+  auto sum_lanes = [&]<int axes>(std::size_t r, std::size_t n) {
+    for (std::size_t first = 0; first < n; first += kBlock) {
+      double s[kBlock] = {}, a[kBlock] = {}, b[kBlock] = {}, c[kBlock] = {};
+      for (int i = 0; i <= d; ++i) {
+        const double e = f.e[i][r], ev = f.ev[i][r], ew = f.ew[i][r];
+        const double* t = &t0[i][first];
+        const double* dt = &dt0[i][first];
+        for (std::size_t q = 0; q < kBlock; ++q) {
+          s[q] = s[q] + e * t[q];
+          if constexpr (axes >= 1) a[q] += e * dt[q];
+          if constexpr (axes >= 2) b[q] += ev * t[q];
+          if constexpr (axes >= 3) c[q] += ew * t[q];
         }
-        double* o = out.component(0) + base;
-        for (std::size_t l = 0; l < n; ++l) o[l] = sum[l];
-      } else {
-        for (std::size_t l = 0; l < n; ++l) out[base + l] = sum[l];
+      }
+      for (std::size_t q = 0; q < kBlock; ++q)
+        sum[first + q] = s[q], p0[first + q] = a[q], p1[first + q] = b[q], p2[first + q] = c[q];
+    }
+  };
+  // chain_rule() a component at a time: each gradient component is 0 +
+  // the sum over the `axes` axes of partial * inverse_half * the variable's
+  // component, in the order of the axes; then the value. Each lane reads
+  // its variables before it writes, and out is a variable or none of them.
+  auto chain_lanes = [&]<int axes>(std::size_t base, std::size_t n) {
+    if constexpr (kGradient) {
+      const double* partial[3] = {p0, p1, p2};
+      for (int q = 1; q < T::size; ++q) {
+        const double* v[axes];
+        for (int a = 0; a < axes; ++a) v[a] = vars[a].component(q) + base;
+        double* o = out.component(q) + base;
+#pragma GCC ivdep
+        for (std::size_t l = 0; l < n; ++l) {
+          double acc = 0.0;
+          for (int a = 0; a < axes; ++a) acc += partial[a][l] * inverse_half_[a] * v[a][l];
+          o[l] = acc;
+        }
+      }
+      double* o = out.component(0) + base;
+#pragma GCC ivdep
+      for (std::size_t l = 0; l < n; ++l) o[l] = sum[l];
+    }
+  };
+  for (std::size_t first_row = 0; first_row < row_count; first_row += kLanes) {
+    const std::size_t rows_now = std::min(kLanes, row_count - first_row);
+    row_factor_lanes(rows + first_row, rows_now, f);
+    for (std::size_t first = 0; first < nx; first += kLanes) {
+      const std::size_t n = std::min(kLanes, nx - first);
+      // The basis in x, shared by every row (lanes past n, up to a whole
+      // block, at u = 0, computed and never stored).
+      double u[kLanes];
+      const std::size_t padded = (n + kBlock - 1) / kBlock * kBlock;
+      for (std::size_t l = 0; l < padded; ++l) u[l] = l < n ? (xs[first + l] - centre_[0]) * inverse_half_[0] : 0.0;
+      basis_lanes(u, padded, d, t0, dt0);
+      for (std::size_t r = 0; r < rows_now; ++r) {
+        if (!kGradient)
+          sum_lanes.template operator()<0>(r, n);
+        else if (dimension_ == 1)
+          sum_lanes.template operator()<1>(r, n);
+        else if (dimension_ == 2)
+          sum_lanes.template operator()<2>(r, n);
+        else
+          sum_lanes.template operator()<3>(r, n);
+        const std::size_t base = (first_row + r) * nx + first;
+        if constexpr (kGradient) {
+          if (dimension_ == 1)
+            chain_lanes.template operator()<1>(base, n);
+          else if (dimension_ == 2)
+            chain_lanes.template operator()<2>(base, n);
+          else
+            chain_lanes.template operator()<3>(base, n);
+        } else {
+          for (std::size_t l = 0; l < n; ++l) out[base + l] = sum[l];
+        }
       }
     }
   }

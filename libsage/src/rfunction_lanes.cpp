@@ -17,15 +17,10 @@
 
 #include <sage/rfunction.hpp>
 
+#include "also_avx2.hpp"
+
 #include <algorithm>
 #include <cmath>
-
-// x86-64 only: elsewhere the one default build.
-#if defined(__x86_64__) && defined(__GNUC__)
-#define SAGE_ALSO_AVX2 [[gnu::target_clones("avx2", "default")]]
-#else
-#define SAGE_ALSO_AVX2
-#endif
 
 namespace sage {
 namespace {

@@ -105,6 +105,9 @@ class ChebyshevPatch : public std::enable_shared_from_this<ChebyshevPatch> {
   // The sums over the y and z degrees at one (y, z), for each x degree.
   struct RowFactors;
   RowFactors row_factors(const std::array<double, 2>& row) const;
+  // row_factors() of rows[0..count), count <= 64, a row per lane.
+  struct RowFactorLanes;
+  void row_factor_lanes(const std::array<double, 2>* rows, std::size_t count, RowFactorLanes& f) const;
 
   // The tuple of `value` whose partials in the local coordinates are
   // `partial`, through the chain rule to the variables at[a].
