@@ -23,6 +23,11 @@ std::array<double, 3> ChebyshevPatch::sample_point(const Interval* box, int dime
 
 namespace {
 
+constexpr int kMaxDegree = 16;        // fit() refuses larger sampling degrees
+constexpr std::size_t kLanes = 64;    // points of a row, or rows, per pass
+constexpr std::size_t kBlock = 8;     // points whose sums over x degrees stay in registers
+constexpr std::size_t kRowBlock = 4;  // rows whose sums over y degrees stay in registers
+
 /// Whether the samples on some line of nodes, along any axis, have a 1D
 /// interpolant with |b_{n-1}| + |b_n| > tolerance: then the fit must fail,
 /// and this costs about a sixth of a 2D fit (far-field approximation
@@ -62,8 +67,7 @@ bool lines_exceed_tail(const std::vector<double>& f, int dimension, int n, const
 /// then its transpose.
 void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>& t, std::vector<double>& c,
                          std::vector<double>& next) {
-  constexpr std::size_t kMaxNodes = 17;  // n <= 16
-  double acc[kMaxNodes * kMaxNodes];
+  double acc[(kMaxDegree + 1) * (kMaxDegree + 1)];
   const double* transposed = &t[m * m];
   const std::size_t total = c.size();
   std::size_t stride = 1;
@@ -97,7 +101,7 @@ void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>
 
 std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, int dimension, int n,
                                                           const std::vector<double>& f, double tolerance) {
-  if (n < 3 || n > 16 || dimension < 1 || dimension > 3) return nullptr;
+  if (n < 3 || n > kMaxDegree || dimension < 1 || dimension > 3) return nullptr;
   const std::size_t m = static_cast<std::size_t>(n + 1);
   std::size_t total = 1;
   for (int a = 0; a < dimension; ++a) total *= m;
@@ -133,7 +137,7 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
     for (int a = 0; a < dimension; ++a, index /= m) alpha[a] = static_cast<int>(index % m);
     return alpha;
   };
-  std::array<double, 3 * 16 + 1> by_degree{};  // up to total degree dimension * n
+  std::array<double, 3 * kMaxDegree + 1> by_degree{};  // up to total degree dimension * n
   for (std::size_t index = 0; index < total; ++index) {
     const auto alpha = degrees(index);
     by_degree[static_cast<std::size_t>(alpha[0] + alpha[1] + alpha[2])] += std::abs(c[index]);
@@ -179,11 +183,6 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
 }
 
 namespace {
-
-constexpr int kMaxDegree = 16;        // fit() refuses larger sampling degrees
-constexpr std::size_t kLanes = 64;    // points of a row, or rows, per pass
-constexpr std::size_t kBlock = 8;     // points whose sums over x degrees stay in registers
-constexpr std::size_t kRowBlock = 4;  // rows whose sums over y degrees stay in registers
 
 /// T_0..T_d and their derivatives at u, by T_k' = 2 T_{k-1} + 2 u T_{k-1}' - T_{k-2}'.
 void basis_with_derivative(double u, int d, double* t, double* dt) {
