@@ -105,14 +105,22 @@ TEST(BatchEvaluator, R0AndRpLanesAtTheCornerAndAtNaN) {
 
 TEST(BatchEvaluator, ComponentwiseOpsAtSignedZerosNaNAndInfinity) {
   // Sums, negation, Axpby and Offset run a component at a time over tuples
-  // stored by component; their bits must be tuple.hpp's even where a zero's
-  // sign or a NaN's would tell (-0 + 0 = +0; x * -1 keeps a NaN's sign).
+  // stored by component, and a halfplane read once (Axpby, then Offset in
+  // its register) in one pass; their bits must be tuple.hpp's even where a
+  // zero's sign or a NaN's would tell (-0 + 0 = +0; x * -1 keeps a NaN's sign).
   const Expr x = Expr::x(), y = Expr::y();
-  const Expr halfplane = 2.0 * x - 3.0 * y;  // Axpby
-  const Tape tape(std::vector<Expr>{halfplane + 1.0, -x + 0.5, -(x - y), -halfplane - y, x + y}, 2);
+  const Expr halfplane = 2.0 * x - 3.0 * y;  // Axpby, read twice
+  const Expr read_once = 0.5 * x + 4.0 * y - 2.0;
+  const Tape tape(std::vector<Expr>{halfplane + 1.0, -x + 0.5, -(x - y), -halfplane - y, x + y, read_once}, 2);
   std::set<Op> ops;
   for (const Instruction& ins : tape.code()) ops.insert(ins.op);
   for (const Op op : {Op::Axpby, Op::Offset, Op::Neg, Op::Sub, Op::Add}) ASSERT_TRUE(ops.count(op)) << op_name(op);
+  std::size_t fused = 0;  // Axpby, then Offset in its register
+  for (std::size_t i = 0; i + 1 < tape.code().size(); ++i) {
+    const Instruction &ins = tape.code()[i], &next = tape.code()[i + 1];
+    fused += ins.op == Op::Axpby && next.op == Op::Offset && next.a == ins.out && next.out == ins.out;
+  }
+  ASSERT_EQ(fused, 1u) << "the halfplane read once";
   Points points = random_points(70, 34, -1, 1);
   const double inf = std::numeric_limits<double>::infinity();
   points[0] = {-0.0, 0.0, 0};
@@ -124,6 +132,7 @@ TEST(BatchEvaluator, ComponentwiseOpsAtSignedZerosNaNAndInfinity) {
   points[6] = {inf, inf, 0};
   expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
   expect_batch_equals_evaluator<Tuple<2, 2>>(tape, points, 16);
+  expect_batch_equals_evaluator<double>(tape, points, 64);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

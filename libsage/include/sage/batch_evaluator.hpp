@@ -134,7 +134,9 @@ class BatchEvaluator {
   // Every instruction at the count_ seeded points.
   void run(const Rows* layout) {
     const std::size_t count = count_;
-    for (const Instruction& ins : tape_->code()) {
+    const std::vector<Instruction>& code = tape_->code();
+    for (std::size_t i = 0; i < code.size(); ++i) {
+      const Instruction& ins = code[i];
       if constexpr (kLaneKernels) {
         if (ins.op == Op::Patch && layout) {
           if constexpr (std::is_same_v<T, double>) {
@@ -167,6 +169,13 @@ class BatchEvaluator {
               rp_combine_lanes(a, b, out, count, static_cast<int>(ins.p1), sign);
             continue;
           }
+        }
+      }
+      if constexpr (kLaneKernels) {
+        if (i + 1 < code.size() && halfplane(ins, code[i + 1])) {
+          run_halfplane(ins, code[i + 1].p0, count);
+          ++i;
+          continue;
         }
       }
       if constexpr (kComponents > 1) {
@@ -216,6 +225,26 @@ class BatchEvaluator {
       }
     }
     return true;
+  }
+
+  // Whether `next` adds a constant to the Axpby `ins` in its own register
+  // (a halfplane, n . p + c): nothing else can read the Axpby's value, so
+  // one pass may compute both.
+  static bool halfplane(const Instruction& ins, const Instruction& next) {
+    return ins.op == Op::Axpby && next.op == Op::Offset && next.a == ins.out && next.out == ins.out;
+  }
+
+  // Axpby, then Offset, a lane at a time: the same numbers as the two
+  // instructions (the Offset adds p0 to the value and 0.0 to the partials).
+  void run_halfplane(const Instruction& ins, double offset, std::size_t count) {
+    for (int k = 0; k < kComponents; ++k) {
+      const double* a = component(ins.a, k);
+      const double* b = component(ins.b, k);
+      double* out = component(ins.out, k);
+      const double p0 = ins.p0, p1 = ins.p1, c = k == 0 ? offset : 0.0;
+#pragma GCC ivdep
+      for (std::size_t l = 0; l < count; ++l) out[l] = (a[l] * p0 + b[l] * p1) + c;
+    }
   }
 
   // The kernels' view of a register: its doubles, or its tuple lanes.
