@@ -128,16 +128,46 @@ double corner_distance(const Jet& a, const Jet& b) {
   return std::isnan(q) ? 0.0 : std::sqrt(std::max(q, 0.0));
 }
 
+// |grad c|^2 summed over the terms when a kept instruction's value is a sum
+// of squares c^2 (an even power b^2m is (b^m)^2), else -1.
+double squares_gradient2(const Instruction& ins, const Jet& a, const double* argument_squares_gradient2) {
+  auto norm2 = [](const Jet& t) {
+    const auto g = t.gradient();
+    return g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+  };
+  switch (ins.op) {
+    case Op::Square: return norm2(a);
+    case Op::PowInt: {
+      const int p = static_cast<int>(ins.p0);
+      if (p <= 0 || p % 2 != 0) return -1;
+      const double m = p / 2, c = std::pow(a.value(), m - 1);  // d b^m = m b^(m-1) grad b
+      return m * m * c * c * norm2(a);
+    }
+    case Op::Add:
+      if (argument_squares_gradient2[0] < 0 || argument_squares_gradient2[1] < 0) return -1;
+      return argument_squares_gradient2[0] + argument_squares_gradient2[1];
+    default: return -1;
+  }
+}
+
 // Whether a kept instruction is analytic across the enlarged box, judged
 // from its arguments at the centre: every singular set (a root, a kink, the
 // corner of an R-function where both arguments vanish) must be farther
 // than `reach` by the first-order distance estimate. Interval enclosures
 // of deep R-function trees are too wide to show this; the estimate is not a
 // proof, and the fitted patch's coefficients are checked anyway.
-bool analytic_near(const Instruction& ins, const Jet& a, const Jet& b, const Jet& out, double reach) {
+bool analytic_near(const Instruction& ins, const Jet& a, const Jet& b, const Jet& out, double reach,
+                   double a_squares_gradient2) {
   if (std::isnan(out.value())) return false;
   switch (ins.op) {
     case Op::Sqrt:
+      // The root of a sum of squares c1^2 + c2^2 branches where c1 = +-i c2,
+      // at the first-order distance sqrt(c1^2 + c2^2) / sqrt(|grad c1|^2 +
+      // |grad c2|^2): those complex zeros bound a patch's convergence. A
+      // far edge's trimmed field (t^2 + h^4 / L^2, then h^2 + q^2) has them
+      // twice as far as the sum's first-order zero |a| / |grad a|.
+      if (a_squares_gradient2 >= 0) return a.value() > 0 && std::sqrt(a.value() / a_squares_gradient2) > reach;
+      [[fallthrough]];
     case Op::Log:
     case Op::PowReal: return a.value() > 0 && zero_distance(a) > reach;
     case Op::Abs:
@@ -183,6 +213,11 @@ void TapeSpecializer::mark_analytic(const Interval* box, double enlargement) {
   for (int a = 0; a < dimension; ++a) jets_[static_cast<std::size_t>(a)] = Jet::variable(a, centre[a]);
   analytic_.assign(code.size(), 0);
   register_analytic_.assign(tape_->register_count(), 1);  // variables and constants
+  const auto& producers = tape_->producers();
+  squares_gradient2_.assign(code.size(), -1);
+  auto squares_of = [&](std::uint32_t producer) {
+    return producer == kNoProducer ? -1.0 : squares_gradient2_[producer];
+  };
   for (std::size_t i = 0; i < code.size(); ++i) {
     const Instruction& ins = code[i];
     const Jet out = evaluate_instruction<Jet>(ins, jets_.data());
@@ -192,9 +227,12 @@ void TapeSpecializer::mark_analytic(const Interval* box, double enlargement) {
       case Fate::FirstArgument: analytic = register_analytic_[ins.a]; break;  // as analytic as what it forwards
       case Fate::SecondArgument: analytic = register_analytic_[ins.b]; break;
       case Fate::Constant: break;
-      default:
+      default: {
+        const double arguments[2] = {squares_of(producers[i][0]), squares_of(producers[i][1])};
+        squares_gradient2_[i] = squares_gradient2(ins, jets_[ins.a], arguments);
         analytic = (k < 1 || register_analytic_[ins.a]) && (k < 2 || register_analytic_[ins.b]) &&
-                   analytic_near(ins, jets_[ins.a], jets_[ins.b], out, reach);
+                   analytic_near(ins, jets_[ins.a], jets_[ins.b], out, reach, arguments[0]);
+      }
     }
     analytic_[i] = analytic;
     register_analytic_[ins.out] = analytic;

@@ -21,8 +21,12 @@ Expr trim_simple(const Expr& h, const Expr& t, const RSystem& system) {
 
 Expr trim_normalized(const Expr& h, const Expr& t) { return sqrt(square(h) + square((abs(t) - t) * 0.5)); }
 
-Expr trim_smooth(const Expr& h, const Expr& t) {
-  return sqrt(square(h) + square((sqrt(square(t) + pow_int(h, 4)) - t) * 0.5));
+Expr trim_smooth(const Expr& h, const Expr& t, double scale) {
+  if (!(scale > 0) || !std::isfinite(scale)) throw std::invalid_argument("trimming scale must be positive and finite");
+  // h^4 / scale^2 as (h / sqrt(scale))^4: an even power of a function that
+  // vanishes on the carrier, which the tape specializer recognizes.
+  const Expr h4 = scale == 1.0 ? pow_int(h, 4) : pow_int(h * (1.0 / std::sqrt(scale)), 4);
+  return sqrt(square(h) + square((sqrt(square(t) + h4) - t) * 0.5));
 }
 
 Expr orthogonalize(const Expr& h, const Expr& t, int dimension) {
@@ -45,9 +49,9 @@ Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& 
   switch (method) {
     case TrimMethod::Simple: return trim_simple(h, t, system);
     case TrimMethod::Normalized: return trim_normalized(h, t);
-    case TrimMethod::Smooth: return trim_smooth(h, t);
+    case TrimMethod::Smooth: return trim_smooth(h, t, length);
   }
-  return trim_smooth(h, t);
+  return trim_smooth(h, t, length);
 }
 
 }  // namespace sage

@@ -13,6 +13,7 @@
 #include <sage/primitives.hpp>
 #include <sage/pruned_grid.hpp>
 #include <sage/tape_specialization.hpp>
+#include <sage/trimming.hpp>
 
 #include <gtest/gtest.h>
 
@@ -336,6 +337,21 @@ TEST(FarFieldApproximation, CornersFarAwayAreAnalyticEvenWhenBothLinesPassClose)
   EXPECT_TRUE(!kept || count_op(*kept, Op::RAnd) == 1u) << "the corner's node stays exact";
 }
 
+// Values and gradients of `approximated` against `exact` at random points
+// of [-1, 1]^2.
+void expect_close_over_unit_box(const Tape& exact_tape, const Tape& approximated, double value, double gradient,
+                                std::uint64_t seed) {
+  Evaluator<Tuple<2, 1>> exact(exact_tape), approximate(approximated);
+  auto rng = test::make_rng(seed);
+  for (int k = 0; k < 200; ++k) {
+    const test::Point p{test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), 0};
+    const auto a = exact.at(p), b = approximate.at(p);
+    EXPECT_NEAR(a.value(), b.value(), value);
+    EXPECT_NEAR(a.c[1], b.c[1], gradient);
+    EXPECT_NEAR(a.c[2], b.c[2], gradient);
+  }
+}
+
 // The first-order estimate cannot see every singularity: sqrt(x^2 + 1e-4)
 // looks analytic from the centre (its argument is positive with zero
 // gradient there) but has branch points at x = +-0.01 i. When the fit of a
@@ -354,15 +370,30 @@ TEST(FarFieldApproximation, AFailedFitTriesTheSubtreesBelow) {
   EXPECT_EQ(count_op(*approximated, Op::Patch), 2u);
   EXPECT_EQ(count_op(*approximated, Op::Sqrt), 1u);
   EXPECT_EQ(count_op(*approximated, Op::Add), 1u);
-  Evaluator<Tuple<2, 1>> exact(tape), approximate(*approximated);
-  auto rng = test::make_rng(12);
-  for (int k = 0; k < 200; ++k) {
-    const test::Point p{test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), 0};
-    const auto a = exact.at(p), b = approximate.at(p);
-    EXPECT_NEAR(a.value(), b.value(), 1e-9);
-    EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
-    EXPECT_NEAR(a.c[2], b.c[2], 1e-6);
-  }
+  expect_close_over_unit_box(tape, *approximated, 1e-9, 1e-6, 12);
+}
+
+// The trimmed field of an edge 12 away along its own line: its square
+// roots' arguments are sums of squares that vanish only at the segment's
+// end points and branch (complex zeros) at |t| / |grad t| = 6.2 from the
+// centre. Judged by the zeros of the arguments alone (t^2 / |grad t^2|,
+// half that: 3.1), the enlarged box reached them; judged by the branch
+// points, the whole field is one patch. An edge through the box keeps its
+// roots.
+TEST(FarFieldApproximation, RootsOfSumsOfSquaresAreAnalyticUpToTheirBranchPoints) {
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};  // reach: 3 half-diagonals, 4.24
+  Approximation settings;
+  settings.tolerance = 1e-7;
+  settings.min_subtree = 1;
+  const Tape far(segment_field({12, 0}, {13, 0}, TrimMethod::Smooth), 2);
+  const std::optional<Tape> patched = TapeSpecializer(far).approximate(box.data(), settings);
+  ASSERT_TRUE(patched);
+  EXPECT_EQ(patched->code().size(), 1u);
+  EXPECT_EQ(count_op(*patched, Op::Patch), 1u);
+  expect_close_over_unit_box(far, *patched, 1e-6, 1e-5, 13);
+  const Tape through(segment_field({0.5, 0}, {1.5, 0}, TrimMethod::Smooth), 2);
+  const std::optional<Tape> kept = TapeSpecializer(through).approximate(box.data(), settings);
+  EXPECT_TRUE(!kept || count_op(*kept, Op::Sqrt) == 2u) << "the roots stay exact";
 }
 
 TEST(FarFieldApproximation, GridSamplingStaysWithinTheTolerance) {

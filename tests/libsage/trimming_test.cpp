@@ -9,7 +9,8 @@
 //  - orthogonalization (fig. 13): with an inclined trimming line through
 //    the end point, plain normalized trimming loses |grad w| = 1 near the
 //    end point, orthogonalized trimming restores it;
-//  - the segment field is zero exactly on the segment and distance-like.
+//  - the segment field is zero exactly on the segment and distance-like,
+//    and does not depend on the unit of length: h^4 is scaled by L^2.
 
 #include "test_support.hpp"
 
@@ -232,10 +233,35 @@ TEST(Trimming, SegmentFieldIsZeroExactlyOnTheSegmentAndDistanceLikeNearIt) {
       }
   }
   EXPECT_THROW(segment_field(a, a, TrimMethod::Normalized), std::invalid_argument);
+  EXPECT_THROW(trim_smooth(Expr::y(), Expr::x(), 0.0), std::invalid_argument);
   EXPECT_EQ(parse_trim_method("simple"), TrimMethod::Simple);
   EXPECT_EQ(parse_trim_method("normalized"), TrimMethod::Normalized);
   EXPECT_EQ(parse_trim_method("smooth"), TrimMethod::Smooth);
   EXPECT_THROW(parse_trim_method("bogus"), std::invalid_argument);
+}
+
+// The same segment in metres and in kilometres (or any unit) gives the same
+// field in that unit: w(k p; k a, k b) = k w(p; a, b), gradients equal.
+// Unscaled, sqrt(t^2 + h^4) mixes lengths squared with lengths to the
+// fourth: a coast in metres got another field than in kilometres, and
+// complex branch points sqrt(|t|) from a far edge's carrier line, which
+// spoil polynomial approximation of the far field.
+TEST(Trimming, SmoothSegmentFieldDoesNotDependOnTheUnitOfLength) {
+  const std::array<double, 2> a{0.3, -0.2}, b{1.1, 0.4};
+  Field2 w(segment_field(a, b, TrimMethod::Smooth));
+  auto rng = test::make_rng(24);
+  for (double k : {1e-3, 7.0, 1e4}) {
+    Field2 scaled(segment_field({k * a[0], k * a[1]}, {k * b[0], k * b[1]}, TrimMethod::Smooth));
+    Evaluator<Tuple<2, 1>>& g = w.tuples;
+    for (int i = 0; i < 300; ++i) {
+      const double x = test::uniform(rng, -30, 30), y = test::uniform(rng, -30, 30);
+      const double expected = k * w.value(x, y);
+      EXPECT_NEAR(scaled.value(k * x, k * y), expected, 1e-12 * expected) << "k = " << k;
+      const auto gw = g.at({x, y, 0}), gs = scaled.tuples.at({k * x, k * y, 0});
+      EXPECT_NEAR(gs.c[1], gw.c[1], 1e-9);
+      EXPECT_NEAR(gs.c[2], gw.c[2], 1e-9);
+    }
+  }
 }
 
 }  // namespace

@@ -137,6 +137,7 @@ class TapeSpecializer {
   std::vector<char> analytic_;    // per instruction, over the last enlarged box
   std::vector<char> register_analytic_;
   std::vector<Tuple<3, 1>> jets_;
+  std::vector<double> squares_gradient2_;  // per instruction: sum of |grad c|^2 if a sum of squares c^2, else -1
   std::vector<std::shared_ptr<const ChebyshevPatch>> patch_;  // for Fate::Patch
   std::unique_ptr<Scratch> scratch_;
   std::unique_ptr<Bounds> bounds_;

@@ -13,9 +13,12 @@
 //  - normalized:  sqrt(h^2 + ((|t| - t) / 2)^2)                     (C1)
 //                 exactly the Euclidean distance for the half-line y = 0,
 //                 x >= 0 (h = y, t = x).
-//  - smooth:      sqrt(h^2 + ((sqrt(t^2 + h^4) - t) / 2)^2)
+//  - smooth:      sqrt(h^2 + ((sqrt(t^2 + h^4 / s^2) - t) / 2)^2)
 //                 smooth away from the entity, equal to the C1 form to
-//                 first order near it.
+//                 first order near it. The length s (1 by default, as in
+//                 the paper) makes h^4 / s^2 a length squared like t^2, so
+//                 the field does not depend on the unit of length when s
+//                 scales with the entity; segment_field uses s = L.
 //  - orthogonalize: replaces t by normalize(t - h (grad h . grad t)); on
 //                 h = 0 it equals t's zero set and its gradient there is
 //                 orthogonal to grad h, which restores |grad| = 1 near the
@@ -33,13 +36,15 @@ TrimMethod parse_trim_method(const std::string& text);
 
 Expr trim_simple(const Expr& h, const Expr& t, const RSystem& system);
 Expr trim_normalized(const Expr& h, const Expr& t);
-Expr trim_smooth(const Expr& h, const Expr& t);
+/// Throws std::invalid_argument unless scale is positive and finite.
+Expr trim_smooth(const Expr& h, const Expr& t, double scale = 1.0);
 
 /// t made orthogonal to h = 0 and normalized (see above).
 Expr orthogonalize(const Expr& h, const Expr& t, int dimension);
 
 /// Distance-like field of the segment from a to b (2D): h is the signed
-/// distance to the line through a and b, t = ((L/2)^2 - |p - c|^2) / L.
+/// distance to the line through a and b, t = ((L/2)^2 - |p - c|^2) / L;
+/// smooth trimming with s = L.
 Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& b, TrimMethod method,
                    const RSystem& system = RSystem::r0());
 
