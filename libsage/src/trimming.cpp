@@ -26,7 +26,8 @@ Expr trim_smooth(const Expr& h, const Expr& t, double scale) {
   // h^4 / scale^2 as (h / sqrt(scale))^4: an even power of a function that
   // vanishes on the carrier, which the tape specializer recognizes.
   const Expr h4 = scale == 1.0 ? pow_int(h, 4) : pow_int(h * (1.0 / std::sqrt(scale)), 4);
-  return sqrt(square(h) + square((sqrt(square(t) + h4) - t) * 0.5));
+  const Expr root = sqrt(square(t) + h4);
+  return sqrt(square(h) + square(root * 0.5 - t * 0.5));  // (root - t) / 2 in one Axpby
 }
 
 Expr orthogonalize(const Expr& h, const Expr& t, int dimension) {
@@ -43,9 +44,11 @@ Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& 
   const double length = std::hypot(dx, dy);
   if (!(length > 0)) throw std::invalid_argument("segment of zero length");
   const Expr x = Expr::x(), y = Expr::y();
-  const Expr h = ((x - a[0]) * (-dy / length)) + ((y - a[1]) * (dx / length));
+  // As halfplanes and Axpbys: 18 instructions, none a division (was 20).
+  const double nx = -dy / length, ny = dx / length;
+  const Expr h = x * nx + y * ny - (a[0] * nx + a[1] * ny);
   const double cx = 0.5 * (a[0] + b[0]), cy = 0.5 * (a[1] + b[1]);
-  const Expr t = (0.25 * length * length - square(x - cx) - square(y - cy)) / length;
+  const Expr t = square(x - cx) * (-1.0 / length) + square(y - cy) * (-1.0 / length) + 0.25 * length;
   switch (method) {
     case TrimMethod::Simple: return trim_simple(h, t, system);
     case TrimMethod::Normalized: return trim_normalized(h, t);
