@@ -1,4 +1,5 @@
 #include <sage/geometry/polygon_csg.hpp>
+#include <sage/trimming.hpp>
 
 #include <CGAL/Convex_hull_traits_adapter_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -108,12 +109,7 @@ class RingFormula {
 
 }  // namespace
 
-Expr edge_halfplane(const Point2& a, const Point2& b) {
-  const double dx = b[0] - a[0], dy = b[1] - a[1], length = std::hypot(dx, dy);
-  const double nx = -dy / length, ny = dx / length;
-  // n . (p - a), as one Axpby and one addition.
-  return (Expr::x() * nx + Expr::y() * ny) - (a[0] * nx + a[1] * ny);
-}
+Expr edge_halfplane(const Point2& a, const Point2& b) { return line_halfplane(a, b); }
 
 Expr ring_csg(const Ring& ring, const RSystem& system, CsgStatistics* statistics) {
   return RingFormula(ring, system).whole(statistics);

@@ -38,6 +38,12 @@ Expr orthogonalize(const Expr& h, const Expr& t, int dimension) {
   return normalize(t - h * dot, dimension);
 }
 
+Expr line_halfplane(const std::array<double, 2>& a, const std::array<double, 2>& b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], length = std::hypot(dx, dy);
+  const double nx = -dy / length, ny = dx / length;
+  return (Expr::x() * nx + Expr::y() * ny) - (a[0] * nx + a[1] * ny);
+}
+
 Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& b, TrimMethod method,
                    const RSystem& system) {
   const double dx = b[0] - a[0], dy = b[1] - a[1];
@@ -45,8 +51,7 @@ Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& 
   if (!(length > 0)) throw std::invalid_argument("segment of zero length");
   const Expr x = Expr::x(), y = Expr::y();
   // As halfplanes and Axpbys: 18 instructions, none a division (was 20).
-  const double nx = -dy / length, ny = dx / length;
-  const Expr h = x * nx + y * ny - (a[0] * nx + a[1] * ny);
+  const Expr h = line_halfplane(a, b);
   const double cx = 0.5 * (a[0] + b[0]), cy = 0.5 * (a[1] + b[1]);
   const Expr t = square(x - cx) * (-1.0 / length) + square(y - cy) * (-1.0 / length) + 0.25 * length;
   switch (method) {

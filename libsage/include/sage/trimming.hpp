@@ -42,6 +42,10 @@ Expr trim_smooth(const Expr& h, const Expr& t, double scale = 1.0);
 /// t made orthogonal to h = 0 and normalized (see above).
 Expr orthogonalize(const Expr& h, const Expr& t, int dimension);
 
+/// Signed distance to the line through a and b, positive left of a -> b
+/// (2D), as one Axpby and one Offset: n . (p - a), n the unit left normal.
+Expr line_halfplane(const std::array<double, 2>& a, const std::array<double, 2>& b);
+
 /// Distance-like field of the segment from a to b (2D): h is the signed
 /// distance to the line through a and b, t = ((L/2)^2 - |p - c|^2) / L;
 /// smooth trimming with s = L.
