@@ -10,11 +10,12 @@
 // evaluation measured at random grid points and the brute-force time of
 // value and gradient beside it. Baseline in the same run: a single disk.
 //
-// Usage: gis_bench [GEOJSON] [N] [M] [TOLERANCE] [ENLARGEMENT] [SAMPLING_DEGREE] [ONLY]
+// Usage: gis_bench [GEOJSON] [N] [M] [TOLERANCE] [ENLARGEMENT] [SAMPLING_DEGREE] [ONLY] [CHECKS]
 //        (defaults 64, 1000, 1e-10, and sage's defaults of Approximation;
 //        TOLERANCE 0 skips the far-field part, ENLARGEMENT and
 //        SAMPLING_DEGREE 0 keep the defaults; ONLY, e.g. "CSG r0", keeps
-//        the M x M parts to the fields whose names contain it)
+//        the M x M parts to the fields whose names contain it; CHECKS
+//        random grid points for the deviation, default 2000)
 
 #include <sage/evaluator.hpp>
 #include <sage/field_samples.hpp>
@@ -196,7 +197,7 @@ int main(int argc, char** argv) {
   approximation.tolerance = relative_tolerance * diagonal;
   if (argc > 5 && std::stod(argv[5]) > 0) approximation.enlargement = std::stod(argv[5]);
   if (argc > 6 && std::stoi(argv[6]) > 0) approximation.sampling_degree = std::stoi(argv[6]);
-  const std::size_t checks = 2000;
+  const std::size_t checks = argc > 8 ? std::stoul(argv[8]) : 2000;
   std::printf(
       "\nwith far-field approximation, tolerance %.0e of the diagonal (%.3g), enlargement %.1f, sampling degree"
       " %d, on %dx%d;\n",

@@ -18,9 +18,9 @@
 // to 0.0125: errors and rates of the weak route and of the Robin structure
 // with the global W (robin_band 0) and with the cut-off W (the default);
 // then the unit ball of examples/problems/ball_robin.json with both weights
-// (12, 16, 24 cells across).
+// (12, 16, 24 cells across). Degrees after `robin` replace 2 and 3.
 //
-//   solve_bench [disk|ball|robin|all]     (OMP_NUM_THREADS=1 for one-thread figures)
+//   solve_bench [disk|ball|robin [DEGREE...]|all]     (OMP_NUM_THREADS=1 for one-thread figures)
 
 #include <sage/derivative.hpp>
 #include <sage/primitives.hpp>
@@ -29,6 +29,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -148,7 +149,10 @@ int main(int argc, char** argv) {
     const PoissonProblem problem = square_with_robin_hole(1.0, 1.0);
     const double band = SolverOptions{}.robin_band;
     const std::vector<double> widths{0.2, 0.1, 0.05, 0.025, 0.0125};
-    for (int degree : {2, 3}) {
+    std::vector<int> degrees;
+    for (int i = 2; i < argc; ++i) degrees.push_back(std::atoi(argv[i]));
+    if (degrees.empty()) degrees = {2, 3};
+    for (int degree : degrees) {
       robin_rates<2>("Square minus disk, Robin hole: weak route", problem, degree, RobinRoute::Weak, band, widths);
       robin_rates<2>("Same, Robin structure, global W (robin_band 0)", problem, degree, RobinRoute::Structure, 0.0,
                      widths);
@@ -166,7 +170,7 @@ int main(int argc, char** argv) {
     sphere.exact = 2.0 - square(x) - square(y) - square(z);
     sphere.rest = BoundaryPart{"default", Expr(0.0), BoundaryKind::Robin, 0.0, 2.0, 0.0};
     const std::vector<double> ball_widths{2.0 / 12, 2.0 / 16, 2.0 / 24};
-    for (int degree : {2, 3}) {
+    for (int degree : degrees) {
       robin_rates<3>("Unit ball, Robin on the sphere: structure, global W", sphere, degree, RobinRoute::Structure, 0.0,
                      ball_widths);
       robin_rates<3>("Same, structure, cut-off W", sphere, degree, RobinRoute::Structure, band, ball_widths);

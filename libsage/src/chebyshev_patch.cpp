@@ -65,13 +65,24 @@ bool lines_exceed_tail(const std::vector<double>& f, int dimension, int n, const
 /// (along axis 0, whose lines are contiguous, the m sums of one line), so
 /// that no addition waits on the one before. t as in lines_exceed_tail(),
 /// then its transpose.
-void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>& t, std::vector<double>& c,
-                         std::vector<double>& next) {
+///
+/// Fits need every coefficient only when they succeed, and most fail
+/// (far-field approximation tries the subtrees below a failed fit): the
+/// last axis (in 2D and 3D) runs its degrees from the highest down, and the
+/// transform stops, returning false, as soon as the coefficients of total
+/// degree n - 1 and above found so far sum to more than `tolerance`, the tail
+/// that every patch of degree <= n - 2 leaves. Each coefficient's sum is
+/// the same either way.
+bool chebyshev_transform(int dimension, std::size_t m, const std::vector<double>& t, std::vector<double>& c,
+                         std::vector<double>& next, double tolerance) {
   double acc[(kMaxDegree + 1) * (kMaxDegree + 1)];
   const double* transposed = &t[m * m];
   const std::size_t total = c.size();
+  const std::size_t high = m - 2;  // total degrees n - 1 = m - 2 and above are in every tail
   std::size_t stride = 1;
   for (int a = 0; a < dimension; ++a, stride *= m) {
+    const bool last = a == dimension - 1 && dimension > 1;
+    double tail = 0;
     for (std::size_t outer = 0; outer < total; outer += stride * m) {
       if (stride == 1) {
         for (std::size_t i = 0; i < m; ++i) acc[i] = 0;
@@ -82,7 +93,8 @@ void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>
         for (std::size_t i = 0; i < m; ++i) next[outer + i] = acc[i] * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
         continue;
       }
-      for (std::size_t i = 0; i < m; ++i) {
+      for (std::size_t step = 0; step < m; ++step) {
+        const std::size_t i = last ? m - 1 - step : step;
         for (std::size_t inner = 0; inner < stride; ++inner) acc[inner] = 0;
         for (std::size_t k = 0; k < m; ++k) {
           const double tik = t[i * m + k];
@@ -91,10 +103,19 @@ void chebyshev_transform(int dimension, std::size_t m, const std::vector<double>
         }
         for (std::size_t inner = 0; inner < stride; ++inner)
           next[outer + i * stride + inner] = acc[inner] * (i == 0 ? 1.0 : 2.0) / static_cast<double>(m);
+        if (!last) continue;
+        for (std::size_t inner = 0; inner < stride; ++inner) {
+          const std::size_t degree = i + inner % m + inner / m;  // inner < m^2: its two degrees
+          if (degree >= high) tail += std::abs(next[outer + i * stride + inner]);
+        }
+        // A hair above the tolerance: fit() decides the borderline cases
+        // from all coefficients.
+        if (tail > tolerance * (1 + 1e-9)) return false;
       }
     }
     std::swap(c, next);
   }
+  return true;
 }
 
 }  // namespace
@@ -129,7 +150,7 @@ std::shared_ptr<const ChebyshevPatch> ChebyshevPatch::fit(const Interval* box, i
   thread_local std::vector<double> c, next;
   c.assign(f.begin(), f.end());
   next.resize(total);
-  chebyshev_transform(dimension, m, t, c, next);
+  if (!chebyshev_transform(dimension, m, t, c, next, tolerance)) return nullptr;
 
   // Sum of |c| by total degree, then the smallest degree whose tail fits.
   auto degrees = [&](std::size_t index) {

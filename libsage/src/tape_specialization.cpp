@@ -2,6 +2,8 @@
 #include <sage/evaluator.hpp>
 #include <sage/tape_specialization.hpp>
 
+#include "partial_bounds.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -25,6 +27,13 @@ using Source = std::int64_t;
 constexpr Source kVariable = -1;   // variable v: kVariable - v (v < 3)
 constexpr Source kConstant = -16;  // constant k: kConstant - k
 bool is_instruction(Source s) { return s >= 0; }
+
+// Where the roots barely depend on a subtree (a far edge beside a near one
+// under R0: d/dy (x + y - sqrt(x^2 + y^2)) = 1 - y / r, about x^2 / 2y^2),
+// its patch may leave a tail up to tolerance / sensitivity, but at most
+// 1e4 times the tolerance: the bounds are first order, over the exact
+// values' enclosures.
+constexpr double kLeastSensitivity = 1e-4;
 
 }  // namespace
 
@@ -53,6 +62,7 @@ struct TapeSpecializer::Scratch {
   std::vector<double> xs;  // the samples: xs x rows
   std::vector<std::array<double, 2>> rows;
   std::vector<double> values;
+  std::vector<double> sensitivity;
   std::unique_ptr<BatchEvaluator<double>> batch;
 };
 
@@ -455,6 +465,7 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
       if (!read_by_analytic[i]) pending.push_back(i);
     }
   if (pending.empty()) return false;
+  const std::vector<double>& sensitivity = sensitivities();
 
   // Their values at the samples: the program that computes them (what they
   // read, with this box's fates), run at all samples in one batch.
@@ -487,17 +498,57 @@ bool TapeSpecializer::fit_patches(const Interval* box, const Approximation& sett
   while (!pending.empty()) {
     const std::size_t i = pending.back();
     pending.pop_back();
-    for (std::size_t s = 0; s < samples; ++s) values[s] = batch.result(s, row[i]);
-    if (auto patch = ChebyshevPatch::fit(box, dimension, degree, values, settings.tolerance)) {
-      fate_[i] = Fate::Patch;
-      patch_[i] = std::move(patch);
-      made = true;
-      continue;
+    // The patch's error reaches the roots scaled by at most sensitivity[i]:
+    // each patch may move them by the tolerance.
+    const double tolerance = settings.tolerance / std::max(kLeastSensitivity, sensitivity[i]);
+    if (tolerance > 0) {
+      for (std::size_t s = 0; s < samples; ++s) values[s] = batch.result(s, row[i]);
+      if (auto patch = ChebyshevPatch::fit(box, dimension, degree, values, tolerance)) {
+        fate_[i] = Fate::Patch;
+        patch_[i] = std::move(patch);
+        made = true;
+        continue;
+      }
     }
     for (std::uint32_t child : read[i])
       if (child != kNoProducer && analytic_[child] && size[child] >= settings.min_subtree) pending.push_back(child);
   }
   return made;
+}
+
+const std::vector<double>& TapeSpecializer::sensitivities() {
+  const auto& code = tape_->code();
+  const auto& producers = tape_->producers();
+  std::vector<double>& sensitivity = scratch_->sensitivity;
+  sensitivity.assign(code.size(), 0.0);
+  for (std::uint32_t p : tape_->result_producers())
+    if (p != kNoProducer) sensitivity[p] = std::max(sensitivity[p], 1.0);
+  // (partial_bound() is never NaN, and a zero partial passes nothing, so no
+  // infinity times 0.)
+  auto pass = [&](std::uint32_t producer, double s, double partial) {
+    if (producer != kNoProducer && partial != 0) sensitivity[producer] += s * partial;
+  };
+  // Backward: each value's bound is the sum, over what reads it, of the
+  // reader's bound times the partial derivative's (the chain rule).
+  for (std::size_t i = code.size(); i-- > 0;) {
+    const double s = sensitivity[i];
+    if (!(s > 0)) continue;
+    const Instruction& ins = code[i];
+    switch (fate_[i]) {
+      case Fate::FirstArgument: pass(producers[i][0], s, 1.0); break;
+      case Fate::SecondArgument: pass(producers[i][1], s, 1.0); break;
+      case Fate::Keep: {
+        const int k = arity(ins.op);
+        const Interval a = k >= 1 ? enclosure(producers[i][0], ins.a) : Interval(0.0);
+        const Interval b = k >= 2 ? enclosure(producers[i][1], ins.b) : Interval(0.0);
+        for (int j = 0; j < k; ++j) pass(producers[i][j], s, detail::partial_bound(ins, a, b, j));
+        break;
+      }
+      case Fate::Constant:
+      case Fate::Patch: break;
+    }
+  }
+  return sensitivity;
 }
 
 Tape TapeSpecializer::rebuild(const std::vector<std::size_t>* outputs) {

@@ -316,8 +316,9 @@ std::size_t count_op(const Tape& tape, Op op) {
 // box do not.
 TEST(FarFieldApproximation, CornersFarAwayAreAnalyticEvenWhenBothLinesPassClose) {
   const Expr x = Expr::x(), y = Expr::y();
-  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};  // reach: 3 half-diagonals, 4.24
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
   Approximation settings;
+  settings.enlargement = 3;  // reach: 3 half-diagonals, 4.24
   settings.tolerance = 1e-6;
   settings.min_subtree = 1;
   // y = 3 and y = -3 + x / 1000: 3 from the centre, crossing at x = 6000.
@@ -381,8 +382,9 @@ TEST(FarFieldApproximation, AFailedFitTriesTheSubtreesBelow) {
 // points, the whole field is one patch. An edge through the box keeps its
 // roots.
 TEST(FarFieldApproximation, RootsOfSumsOfSquaresAreAnalyticUpToTheirBranchPoints) {
-  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};  // reach: 3 half-diagonals, 4.24
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
   Approximation settings;
+  settings.enlargement = 3;  // reach: 3 half-diagonals, 4.24
   settings.tolerance = 1e-7;
   settings.min_subtree = 1;
   const Tape far(segment_field({12, 0}, {13, 0}, TrimMethod::Smooth), 2);
@@ -394,6 +396,43 @@ TEST(FarFieldApproximation, RootsOfSumsOfSquaresAreAnalyticUpToTheirBranchPoints
   const Tape through(segment_field({0.5, 0}, {1.5, 0}, TrimMethod::Smooth), 2);
   const std::optional<Tape> kept = TapeSpecializer(through).approximate(box.data(), settings);
   EXPECT_TRUE(!kept || count_op(*kept, Op::Sqrt) == 2u) << "the roots stay exact";
+}
+
+// The largest tail among a tape's patches.
+double largest_tail(const Tape& tape) {
+  double tail = 0;
+  for (const Instruction& ins : tape.code())
+    if (ins.op == Op::Patch) tail = std::max(tail, ins.patch->tail());
+  return tail;
+}
+
+// An error in F reaches F or C1 twice over where C1 vanishes and F > 0
+// (d/dF (F + C + sqrt(F^2 + C^2)) = 1 + F / sqrt(F^2 + C^2)), and F or C1,
+// or C2 twice that: a patch of F with a tail of T could move the field by
+// nearly 4 T. Corners inside the box keep both R0 nodes exact, so F is
+// patched under them, and its fit must leave a tail of at most T / 4. Alone
+// (nothing above it), F's fit leaves more, so the bound is what tightens it.
+TEST(FarFieldApproximation, PatchesUnderAmplifyingNodesAreFittedTighter) {
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr f = exp(0.3 * x) * cos(0.2 * y) + 2.0;
+  const Expr c1 = r_and(y - 0.1 * x, x + 0.05, RSystem::r0());       // corner at (-0.05, -0.005)
+  const Expr c2 = r_and(x - 0.2 * y - 0.1, 0.3 - y, RSystem::r0());  // corner at (0.16, 0.3)
+  const Expr field = r_or(r_or(f, c1, RSystem::r0()), c2, RSystem::r0());
+  const Box box{Interval(-1, 1), Interval(-1, 1), Interval(0.0)};
+  Approximation settings;
+  settings.tolerance = 1e-9;
+  settings.min_subtree = 1;
+  const Tape alone(f, 2);
+  const std::optional<Tape> f_patched = TapeSpecializer(alone).approximate(box.data(), settings);
+  ASSERT_TRUE(f_patched);
+  ASSERT_GT(largest_tail(*f_patched), settings.tolerance / 4) << "alone, F's patch would not do under the nodes";
+  const Tape tape(field, 2);
+  const std::optional<Tape> approximated = TapeSpecializer(tape).approximate(box.data(), settings);
+  ASSERT_TRUE(approximated);
+  EXPECT_EQ(count_op(*approximated, Op::ROr), 2u);
+  ASSERT_GT(count_op(*approximated, Op::Patch), 0u);
+  EXPECT_LE(largest_tail(*approximated), settings.tolerance / 4);
+  expect_close_over_unit_box(tape, *approximated, settings.tolerance, 1e-7, 14);
 }
 
 TEST(FarFieldApproximation, GridSamplingStaysWithinTheTolerance) {

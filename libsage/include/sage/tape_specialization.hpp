@@ -33,10 +33,18 @@
 // coast the whole field becomes one patch; near it, the edges close by stay
 // exact and the rest of the coast is a few patches. Interval enclosures of
 // deep R-function trees are too wide to decide this, and the estimate is
-// not a proof: the result is no longer bit-identical, its deviation is the
-// patches' tolerance amplified by the operations above them (R-function
-// partial derivatives lie in [0, 2]), and tests and bench/gis_bench
-// measure it against exact evaluation.
+// not a proof: the result is no longer bit-identical, and tests and
+// bench/gis_bench measure its deviation against exact evaluation.
+//
+// Each patch's tolerance is divided by a bound, over the box, of how much
+// the roots move per unit change of its subtree (the chain rule backward
+// from the roots, each operation's partial derivatives bounded from its
+// arguments' enclosures: partial_bounds.hpp). R-function partials reach 2
+// where an argument may have the sign that matters (x < 0 in x AND y, with
+// y near 0), so a patch under a few such nodes could otherwise move the
+// field several times its tail; where the roots barely depend on a subtree
+// (a far edge beside a near one) its patch may be coarser. Either way each
+// patch moves the roots by at most the tolerance, to first order.
 //
 //     TapeSpecializer specializer(tape);   // if TapeSpecializer::worthwhile(tape)
 //     std::array<Interval, 3> box{Interval(0, 1), Interval(0, 1), Interval(0)};
@@ -56,9 +64,9 @@ namespace sage {
 
 /// Settings of far-field approximation.
 struct Approximation {
-  double tolerance = 0;          // absolute tail allowed per patch (field units)
-  double enlargement = 3;        // singular sets must be this many half-diagonals from the box centre
-  int sampling_degree = 12;      // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
+  double tolerance = 0;          // how far each patch may move the roots (field units, first order)
+  double enlargement = 1;        // singular sets must be this many half-diagonals from the box centre
+  int sampling_degree = 16;      // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
   std::size_t min_subtree = 16;  // smaller subtrees are cheaper to run than a patch (a row at a time)
 };
 
@@ -119,6 +127,9 @@ class TapeSpecializer {
   // Which instructions are analytic across the box enlarged (from values
   // and gradients at its centre).
   void mark_analytic(const Interval* box, double enlargement);
+  // Per instruction, a bound over the box (from the last trace) of how much
+  // the roots can move per unit change of its value.
+  const std::vector<double>& sensitivities();
   // Fits patches to the largest analytic subtrees; true if any was made.
   bool fit_patches(const Interval* box, const Approximation& settings);
   // The program of the kept instructions, with registers reallocated; its
