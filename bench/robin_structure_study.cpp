@@ -1,6 +1,6 @@
-// A 1D study for the Robin structure's next step (README, "Robin
-// structure"): which trial space keeps the rates of degree n when the
-// Robin condition is built into the trial functions.
+// A 1D study behind the Robin structure's second function (README,
+// "Robin structure"): which trial space keeps the rates of degree n when
+// the Robin condition is built into the trial functions.
 //
 // Problem: -u'' = f on (0, 1), u = cos 3x + x^2; Robin -u'(0) + beta u(0) =
 // h at x = 0 (beta = 1; W = x is the normalized field of that end, D1 =
@@ -9,7 +9,7 @@
 // cuts the structure off at distance delta from the Robin end.
 //   weak        u = P, the Robin condition in the weak form;
 //   one field   u = P - V P' + V (beta P - h): `sage solve --robin
-//               structure`, delta = h^(1/n) (its band rule, L = 1);
+//               structure` before its second function, delta = h^(1/n);
 //   two fields  the same + V W Q, Q a second spline on the B-splines that
 //               meet the band: Rvachev's second component, which absorbs
 //               V times the Robin defect so that P needs no layer.

@@ -136,8 +136,10 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
               command.options.cell_width);
   if (r.robin_band) {
     if (*r.robin_band > 0.0)
-      std::printf("  structure multiplier cut off at distance %g (--robin-band %g), power %d\n", *r.robin_band,
-                  command.options.robin_band, command.options.robin_band_power);
+      std::printf(
+          "  structure multiplier cut off at distance %g (--robin-band %g), power %d; second function on %zu "
+          "unknowns\n",
+          *r.robin_band, command.options.robin_band, command.options.robin_band_power, r.second_unknowns);
     else
       std::printf("  structure multiplier: the global distance field (--robin-band 0)\n");
   }
@@ -185,12 +187,14 @@ int run_solve(const std::vector<std::string>& args) {
       "weak (Neumann and Robin conditions by boundary integrals; default) or structure (Rvachev's solution "
       "structure as well, degree >= 2; overrides the problem file's \"robin\")");
   add("robin-band", po::value(&command.options.robin_band)->default_value(command.options.robin_band),
-      "structure route: the multiplier is cut off at distance F L (h/L)^(1/degree) from the Robin parts, L the "
-      "box's longest side (0: no cut-off, the global distance field)");
+      "structure route: the multiplier is cut off at distance F L (h/L)^(2/3) from the Robin parts, L the "
+      "box's longest side, where the structure's second function lives (0: no cut-off and no second function, "
+      "the global distance field)");
   add("robin-band-power", po::value(&command.options.robin_band_power)->default_value(command.options.robin_band_power),
-      "structure route: the power M of the cut-off (1 - w / band)^M, M >= 2");
+      "structure route: the power M of the cut-off (1 - omega_R / band)^M, M >= 2");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
-      "auto (cg in 2D, jacobi in 3D), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) "
+      "auto (cg in 2D, jacobi in 3D, direct for --robin structure), direct (sparse LDLT), cg (conjugate gradients, "
+      "incomplete Cholesky) "
       "or jacobi (conjugate gradients, Jacobi)");
   add("tolerance", po::value(&command.options.cg_tolerance),
       "relative residual of conjugate gradients (default (h/L)^(degree+3) within [1e-12, 1e-6], L the "

@@ -38,47 +38,72 @@ class Accumulator {
   std::vector<int> list_;
 };
 
-}  // namespace
+/// A's rows without the empty slots: row r's (relevant column, value)
+/// pairs are entries[start[r] .. start[r + 1]).
+struct BandRows {
+  std::vector<std::size_t> start;
+  std::vector<Entry> entries;
+};
 
 template <int D>
-Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band) {
+BandRows band_rows(const SplineBasis<D>& basis, const std::vector<double>& band) {
   const BackgroundGrid<D>& grid = basis.grid;
   const int n = grid.degree, width = 2 * n + 1;
   int stencil = 1;
   for (int a = 0; a < D; ++a) stencil *= width;
   const std::size_t relevant = basis.relevant.size();
-  const Eigen::SparseMatrix<double>& E = basis.extension;
-  if (band.size() != relevant * static_cast<std::size_t>(stencil) || static_cast<std::size_t>(E.rows()) != relevant)
+  if (band.size() != relevant * static_cast<std::size_t>(stencil) ||
+      static_cast<std::size_t>(basis.extension.rows()) != relevant)
     throw std::invalid_argument("extended_system: the band does not match the basis");
+  std::vector<long long> shift(static_cast<std::size_t>(stencil));  // slot -> global spline offset
+  for (int o = 0; o < stencil; ++o) {
+    long long s = 0, stride = 1;
+    int rest = o;
+    for (int a = 0; a < D; ++a) {
+      s += (rest % width - n) * stride;
+      rest /= width;
+      stride *= grid.splines_along(a);
+    }
+    shift[static_cast<std::size_t>(o)] = s;
+  }
+  BandRows rows;
+  rows.start.assign(relevant + 1, 0);
+  for (std::size_t r = 0; r < relevant; ++r) {
+    const double* row = band.data() + r * static_cast<std::size_t>(stencil);
+    const auto spline = static_cast<long long>(basis.relevant[r]);
+    for (int o = 0; o < stencil; ++o) {
+      if (row[o] == 0.0) continue;
+      const long long j = basis.relevant_of[static_cast<std::size_t>(spline + shift[static_cast<std::size_t>(o)])];
+      rows.entries.push_back({static_cast<int>(j), row[o]});
+    }
+    rows.start[r + 1] = rows.entries.size();
+  }
+  return rows;
+}
+
+}  // namespace
+
+template <int D>
+Eigen::SparseMatrix<double> band_matrix(const SplineBasis<D>& basis, const std::vector<double>& band) {
+  const BandRows rows = band_rows(basis, band);
+  const auto relevant = static_cast<Eigen::Index>(basis.relevant.size());
+  Eigen::SparseMatrix<double, Eigen::RowMajor> a(relevant, relevant);
+  a.reserve(static_cast<Eigen::Index>(rows.entries.size()));
+  for (Eigen::Index r = 0; r < relevant; ++r)
+    for (std::size_t k = rows.start[static_cast<std::size_t>(r)]; k < rows.start[static_cast<std::size_t>(r) + 1]; ++k)
+      a.insert(r, rows.entries[k].row) = rows.entries[k].value;
+  return a;
+}
+
+template <int D>
+Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band) {
+  const BandRows rows = band_rows(basis, band);
+  const std::vector<std::size_t>& a_start = rows.start;
+  const std::vector<Entry>& a_entries = rows.entries;
+  const std::size_t relevant = basis.relevant.size();
+  const Eigen::SparseMatrix<double>& E = basis.extension;
   const Eigen::Index unknowns = E.cols();
   const Eigen::SparseMatrix<double, Eigen::RowMajor> rows_of_e = E;
-
-  // A by rows, without the empty slots: (relevant column, value).
-  std::vector<std::size_t> a_start(relevant + 1, 0);
-  std::vector<Entry> a_entries;
-  {
-    std::vector<long long> shift(static_cast<std::size_t>(stencil));  // slot -> global spline offset
-    for (int o = 0; o < stencil; ++o) {
-      long long s = 0, stride = 1;
-      int rest = o;
-      for (int a = 0; a < D; ++a) {
-        s += (rest % width - n) * stride;
-        rest /= width;
-        stride *= grid.splines_along(a);
-      }
-      shift[static_cast<std::size_t>(o)] = s;
-    }
-    for (std::size_t r = 0; r < relevant; ++r) {
-      const double* row = band.data() + r * static_cast<std::size_t>(stencil);
-      const auto spline = static_cast<long long>(basis.relevant[r]);
-      for (int o = 0; o < stencil; ++o) {
-        if (row[o] == 0.0) continue;
-        const long long j = basis.relevant_of[static_cast<std::size_t>(spline + shift[static_cast<std::size_t>(o)])];
-        a_entries.push_back({static_cast<int>(j), row[o]});
-      }
-      a_start[r + 1] = a_entries.size();
-    }
-  }
 
   // Column p of E^T A E is E^T (A e) with e = E(:, p): A e from the rows
   // of A at e's splines (A is symmetric), then E^T of that; only rows
@@ -134,5 +159,7 @@ Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const s
 
 template Eigen::SparseMatrix<double> extended_system<2>(const SplineBasis<2>&, const std::vector<double>&);
 template Eigen::SparseMatrix<double> extended_system<3>(const SplineBasis<3>&, const std::vector<double>&);
+template Eigen::SparseMatrix<double> band_matrix<2>(const SplineBasis<2>&, const std::vector<double>&);
+template Eigen::SparseMatrix<double> band_matrix<3>(const SplineBasis<3>&, const std::vector<double>&);
 
 }  // namespace sage::solver

@@ -226,14 +226,55 @@ void check_robin_structure(const BoundaryStructure& structure, const TrialStruct
                                 point_text<D>(junction) + "), where the structure is singular; use the weak route");
 }
 
+/// Gauss points per direction added in the cells of the Robin structure's
+/// band (degree 3: 4 + 7; with 4 + 4 the errors stall at h = 0.0125).
+constexpr int kBandExtraPoints = 7;
+
+/// The unknowns that the structure's second function keeps: those whose
+/// function M b_j (M = V omega_R, b_j = sum_i E_ij B_i) carries energy, by the diagonal
+/// of E^T A_QQ E; as an unknowns x kept matrix of ones.
+Eigen::SparseMatrix<double> second_function_unknowns(const Eigen::SparseMatrix<double>& own) {
+  const Eigen::VectorXd diagonal = own.diagonal();
+  const double least = 1e-14 * diagonal.maxCoeff();
+  std::vector<Eigen::Triplet<double>> ones;
+  for (Eigen::Index j = 0; j < diagonal.size(); ++j)
+    if (diagonal[j] > least) ones.emplace_back(j, static_cast<Eigen::Index>(ones.size()), 1.0);
+  Eigen::SparseMatrix<double> select(diagonal.size(), static_cast<Eigen::Index>(ones.size()));
+  select.setFromTriplets(ones.begin(), ones.end());
+  return select;
+}
+
+/// The lower triangle of [S_PP, S_QP^T; S_QP, S_QQ] from S_PP's lower
+/// triangle, the coupling S_QP (Q rows, P columns) and S_QQ.
+Eigen::SparseMatrix<double> joined_system(const Eigen::SparseMatrix<double>& pp_lower,
+                                          const Eigen::SparseMatrix<double>& qp,
+                                          const Eigen::SparseMatrix<double>& qq) {
+  const Eigen::Index p = pp_lower.rows(), total = p + qq.rows();
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<std::size_t>(pp_lower.nonZeros() + qp.nonZeros() + qq.nonZeros()));
+  for (Eigen::Index c = 0; c < p; ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator e(pp_lower, c); e; ++e) entries.emplace_back(e.row(), c, e.value());
+  for (Eigen::Index c = 0; c < qp.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator e(qp, c); e; ++e) entries.emplace_back(p + e.row(), c, e.value());
+  for (Eigen::Index c = 0; c < qq.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator e(qq, c); e; ++e)
+      if (e.row() >= c) entries.emplace_back(p + e.row(), p + c, e.value());
+  Eigen::SparseMatrix<double> joined(total, total);
+  joined.setFromTriplets(entries.begin(), entries.end());
+  return joined;
+}
+
 }  // namespace
 
-// W times the splines' second derivatives costs O(band h^(n-1)) in H1, the layer of width band that
-// the cut puts into the preimage of the solution O(h^n band^(1.5-n)); band ~ h^(1/n) balances the two
-// (README, Robin structure).
-double robin_band_width(double fraction, double cell_width, double longest_side, int degree) {
+// The second function absorbs the Robin defect within the band, so P needs
+// no layer, and V D1(P) costs O(band^1.5 h^(n-1)) in H1: below h^n for
+// band ~ h^(2/3). A band of a few cells (~ h) would do as well in exact
+// arithmetic, but its cut-offs would then vary within a cell at every h,
+// and Gauss rules would leave a relative error that does not fall with h
+// (README, Robin structure; bench/robin_structure_study).
+double robin_band_width(double fraction, double cell_width, double longest_side) {
   if (fraction <= 0.0) return 0.0;
-  return fraction * longest_side * std::pow(cell_width / longest_side, 1.0 / degree);
+  return fraction * longest_side * std::pow(cell_width / longest_side, 2.0 / 3.0);
 }
 
 double automatic_cg_tolerance(double cell_width, double longest_side, int degree) {
@@ -256,11 +297,12 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
   const auto& grid = solution_->basis.grid;
   const auto cell = grid.cell_of(x);
   const bool structured = solution_->structure->results().size() > 2;
+  const bool second = solution_->second_coefficients.size() > 0;
   LocalSplines<D>& local = local_;
   local.evaluate(grid, cell, x, structured);
-  // Phi = sum c B, its gradient and (structure route) its Hessian.
-  double s = 0.0;
-  std::array<double, D> grad_s{};
+  // Phi = sum c B, its gradient and (structure route) its Hessian; Q = sum q B and its gradient.
+  double s = 0.0, q = 0.0;
+  std::array<double, D> grad_s{}, grad_q{};
   std::array<double, LocalSplines<D>::kHessianEntries> hess_s{};
   for (int k = 0; k < grid.local_count(); ++k) {
     const auto i = LocalSplines<D>::global_index(cell, grid.degree, k);
@@ -271,6 +313,10 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
     for (int a = 0; a < D; ++a) grad_s[a] += c * local.gradient[a][k];
     if (structured)
       for (int e = 0; e < LocalSplines<D>::kHessianEntries; ++e) hess_s[e] += c * local.hessian[e][k];
+    if (!second) continue;
+    const double d = solution_->second_coefficients[r];
+    q += d * local.value[k];
+    for (int a = 0; a < D; ++a) grad_q[a] += d * local.gradient[a][k];
   }
   structure_.evaluate(x);
   const auto& w = structure_.result(0);
@@ -288,6 +334,12 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
       for (int a = 0; a < D; ++a)
         grad_u[a] -= gt[a] * grad_s[b] + t.value() * hess_s[LocalSplines<D>::hessian_index(a, b)];
     }
+  }
+  if (second) {  // u += M Q, M = V omega_R
+    const auto& m = structure_.result(2 + D);
+    const auto gm = m.gradient();
+    u += m.value() * q;
+    for (int a = 0; a < D; ++a) grad_u[a] += gm[a] * q + m.value() * grad_q[a];
   }
   if (gradient)
     for (int a = 0; a < D; ++a) gradient[a] = grad_u[a];
@@ -365,11 +417,30 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
   double longest = 0.0;
   for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
-  if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest, n);
+  if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest);
   const TrialStructure trial = structured
                                    ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
                                    : dirichlet_trial(structure);
+  const bool second = trial.second_function();
   if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
+  // Cells that may meet the structure's band (omega_R < band over the cell,
+  // by intervals) hold its cut-offs, polynomials of degree power + 2 or so in
+  // omega_R times the splines, and their C^(power - 1) edge: a finer rule
+  // there (with n + 1 points, degree 3, h = 0.0125: H1 error 7.8e-4 against 3.6e-9).
+  std::vector<char> in_band(candidates.size(), 0);
+  if (second) {
+    const Tape field(trial.robin_field, D);
+    Evaluator<Interval> eval(field);
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const Box<D> box = cell_box(grid, candidates[k]);
+      std::array<Interval, 3> x{Interval(0.0), Interval(0.0), Interval(0.0)};
+      for (int a = 0; a < D; ++a) x[static_cast<std::size_t>(a)] = Interval(box.lo[a], box.hi[a]);
+      eval.evaluate_with(x.data());
+      in_band[k] = !(eval.result().lo >= *report.robin_band) ? 1 : 0;  // NaN: may meet it
+    }
+  }
+  const int band_points = inside_points + kBandExtraPoints;
+  const QuadratureOptions band_quadrature{band_points + 1, band_points, options.max_subdivision};
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
   // a weak condition may hold.
@@ -377,11 +448,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   std::vector<std::vector<SurfacePoint<D>>> surface(candidates.size());
 #pragma omp parallel
   {
-    CellQuadrature<D> rule(domain_tapes, quadrature);
+    CellQuadrature<D> rule(domain_tapes, quadrature), band_rule(domain_tapes, band_quadrature);
 #pragma omp for schedule(dynamic, 16)
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::size_t c = candidates[k];
-      rule.append_rule(cell_box(grid, c), kinds[c], volume[k], structure.has_weak_parts ? &surface[k] : nullptr);
+      (in_band[k] ? band_rule : rule)
+          .append_rule(cell_box(grid, c), kinds[c], volume[k], structure.has_weak_parts ? &surface[k] : nullptr);
     }
   }
   std::vector<char> active(cell_count, 0), inside(cell_count, 0);
@@ -427,6 +499,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   surface_roots.push_back(problem.rest.flux);
   std::vector<Expr> trial_roots{trial.scale, trial.offset};
   for (const Expr& t : trial.transport) trial_roots.push_back(t);
+  if (second) trial_roots.push_back(trial.second_weight);
   auto structure_tape = std::make_shared<Tape>(trial_roots, D);
   if (structured) check_robin_structure(structure, trial, grid.h, volume, surface);
   const AssemblyTapes tapes{*structure_tape, Tape(std::vector<Expr>{problem.conductivity, problem.source}, D),
@@ -439,11 +512,20 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const std::size_t relevant = basis.relevant.size();
   std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
   std::vector<double> load(relevant, 0.0);
+  // The structure's second function Q: its rows of the Galerkin matrix
+  // (against P's trial functions and its own), in the band's layout, and
+  // its load; per relevant B-spline, extended below like P's.
+  std::vector<double> second_band(second ? band.size() : 0, 0.0), coupling_band(second_band.size(), 0.0);
+  std::vector<double> second_load(second ? relevant : 0, 0.0);
   // Pure Neumann: (v_i, 1) per relevant spline, and (|f|, 1) + <|h|, 1>.
   const bool pure_neumann = structure.pure_neumann;
   std::vector<double> mean_load(pure_neumann ? relevant : 0, 0.0);
+  std::vector<double> second_mean_load(pure_neumann && second ? relevant : 0, 0.0);
   double data_size = 0.0;
+  double offset_mean = 0.0;  // (u0, 1), pure Neumann only: the structure's u0 = -V h / k is not 0
   const int local_count = grid.local_count();
+  // Local trial functions per cell: P's, then (second function) Q's.
+  const int local_rows = second ? 2 * local_count : local_count;
   // Band position of the pair (j, l) of local splines: their offset
   // difference, numbered in the (2n + 1)^D stencil.
   std::vector<int> stencil_of_local(static_cast<std::size_t>(local_count));
@@ -467,8 +549,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     Evaluator<double> coefficient_eval(tapes.coefficients);
     Evaluator<double> surface_eval(tapes.surface);
     LocalSplines<D> local;
-    Eigen::MatrixXd gradients(local_count, 0), stiffness(local_count, local_count);
-    Eigen::VectorXd rhs(local_count), trial_values(local_count);
+    Eigen::MatrixXd gradients(local_rows, 0), stiffness(local_rows, local_rows);
+    Eigen::VectorXd rhs(local_rows), trial_values(local_rows);
     std::vector<long long> rows(static_cast<std::size_t>(local_count));
     // Each thread adds into its own band (no atomics), summed below; the
     // first thread adds into `band` itself (one thread: no copy at all).
@@ -480,8 +562,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     std::vector<double> own_band_storage(first_thread ? 0 : band.size(), 0.0);
     std::vector<double>& own_band = first_thread ? band : own_band_storage;
     std::vector<double> own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
-    Eigen::VectorXd mean_rhs(local_count);
-    double own_data_size = 0.0;
+    std::vector<double> own_second_band(second_band.size(), 0.0), own_coupling_band(second_band.size(), 0.0);
+    std::vector<double> own_second_load(second_load.size(), 0.0), own_second_mean(second_mean_load.size(), 0.0);
+    Eigen::VectorXd mean_rhs(local_rows);
+    double own_data_size = 0.0, own_offset_mean = 0.0;
     // 3D inside cells: stiffness by sum factorization, from these per-point coefficients.
     TensorCellStiffness tensor(n, inside_points, grid.h);
     std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
@@ -494,9 +578,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       const bool tabulated = kinds[candidates[k]] == CellKind::Inside && points.size() == inside_table.points;
       const bool factorized = D == 3 && tabulated && !structured;
       const auto columns = static_cast<Eigen::Index>(points.size() * D);
-      if (gradients.cols() < columns) gradients.resize(local_count, columns);
+      if (gradients.cols() < columns) gradients.resize(local_rows, columns);
       rhs.setZero();
       mean_rhs.setZero();
+      bool meets_second = false;  // M != 0 at a point of the cell
       for (std::size_t p = 0; p < points.size() && structured; ++p) {
         const auto& q = points[p];
         structure_eval.evaluate(q.x.data());
@@ -509,27 +594,37 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         // v_j = w B_j - t . grad B_j; d v_j / dx_a = dw/dx_a B_j + w dB_j/dx_a
         //       - sum_b (dt_b/dx_a dB_j/dx_b + t_b d2B_j/dx_a dx_b).
         const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
-        trial_values = w.value() * values;
+        auto p_values = trial_values.head(local_count);
+        p_values = w.value() * values;
         for (int b = 0; b < D; ++b)
-          trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
-                          Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+          p_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
+                      Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+        // Q's trial functions M B_j and their gradients.
+        const Tuple<D, 1>* m = second ? &structure_eval.result(2 + D) : nullptr;
+        if (m) {
+          trial_values.tail(local_count) = m->value() * values;
+          meets_second = meets_second || m->value() != 0.0;
+        }
         rhs += (q.weight * source) * trial_values;
         if (pure_neumann) {
           mean_rhs += q.weight * trial_values;
+          own_offset_mean += q.weight * structure_eval.result(1).value();
           own_data_size += q.weight * std::abs(source);
         }
         for (int a = 0; a < D; ++a) {
-          auto column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
-          column =
-              gw[a] * values + w.value() * Eigen::Map<const Eigen::VectorXd>(local.gradient[a].data(), local_count);
+          auto full_column = gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a)));
+          auto column = full_column.head(local_count);
+          const Eigen::Map<const Eigen::VectorXd> slopes(local.gradient[a].data(), local_count);
+          column = gw[a] * values + w.value() * slopes;
           for (int b = 0; b < D; ++b) {
             const auto& t = structure_eval.result(2 + static_cast<std::size_t>(b));
             column -= t.gradient()[a] * Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count) +
                       t.value() * Eigen::Map<const Eigen::VectorXd>(
                                       local.hessian[LocalSplines<D>::hessian_index(a, b)].data(), local_count);
           }
-          rhs -= (q.weight * conductivity * gg[a]) * column;
-          column *= scale;
+          if (m) full_column.tail(local_count) = m->gradient()[a] * values + m->value() * slopes;
+          rhs -= (q.weight * conductivity * gg[a]) * full_column;
+          full_column *= scale;
         }
       }
       for (std::size_t p = 0; p < points.size() && !structured; ++p) {
@@ -560,6 +655,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         rhs += (q.weight * alpha) * values;
         if (pure_neumann) {
           mean_rhs += (q.weight * w.value()) * values;
+          own_offset_mean += q.weight * g.value();
           own_data_size += q.weight * std::abs(source);
         }
         for (int a = 0; a < D; ++a) {
@@ -592,12 +688,19 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         structure_eval.evaluate(s.x.data());
         const double w = structure_eval.result(0).value(), g = structure_eval.result(1).value();
         local.evaluate(grid, cell, s.x.data());
-        trial_values = w * Eigen::Map<const Eigen::VectorXd>(local.value.data(), local_count);
+        const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
+        auto p_values = trial_values.head(local_count);
+        p_values = w * values;
         for (int b = 0; b < D && structured; ++b)  // transport vanishes on the boundary up to round-off
-          trial_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
-                          Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+          p_values -= structure_eval.result(2 + static_cast<std::size_t>(b)).value() *
+                      Eigen::Map<const Eigen::VectorXd>(local.gradient[b].data(), local_count);
+        if (second) {  // M vanishes on the structured parts, not on the rest's weak boundary
+          const double m = structure_eval.result(2 + D).value();
+          trial_values.tail(local_count) = m * values;
+          meets_second = meets_second || m != 0.0;
+        }
         own_data_size += pure_neumann ? s.weight * std::abs(data.flux) : 0.0;
-        for (int j = 0; j < local_count; ++j) {
+        for (int j = 0; j < local_rows; ++j) {
           const double vj = trial_values[j];
           rhs[j] += s.weight * (data.flux - data.beta * g) * vj;
           if (data.beta == 0.0) continue;
@@ -616,6 +719,18 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         const double* column = stiffness.col(j).data();
         for (int l = 0; l < local_count; ++l) row[stencil_of_local[l]] += column[l];
       }
+      if (!meets_second) continue;
+      // Q's rows: against P's trial functions (coupling) and against Q's own.
+      for (int j = 0; j < local_count; ++j) {
+        const auto r = static_cast<std::size_t>(rows[j]);
+        own_second_load[r] += rhs[local_count + j];
+        if (pure_neumann) own_second_mean[r] += mean_rhs[local_count + j];
+        const std::size_t slot = r * static_cast<std::size_t>(stencil) + stencil_centre - stencil_of_local[j];
+        for (int l = 0; l < local_count; ++l) {
+          own_coupling_band[slot + stencil_of_local[l]] += stiffness(local_count + j, l);
+          own_second_band[slot + stencil_of_local[l]] += stiffness(local_count + j, local_count + l);
+        }
+      }
     }
 #pragma omp barrier
 #pragma omp critical
@@ -624,7 +739,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
       for (std::size_t i = 0; i < mean_load.size(); ++i) mean_load[i] += own_mean[i];
+      for (std::size_t i = 0; i < second_band.size(); ++i) {
+        second_band[i] += own_second_band[i];
+        coupling_band[i] += own_coupling_band[i];
+      }
+      for (std::size_t i = 0; i < second_load.size(); ++i) second_load[i] += own_second_load[i];
+      for (std::size_t i = 0; i < second_mean_load.size(); ++i) second_mean_load[i] += own_second_mean[i];
       data_size += own_data_size;
+      offset_mean += own_offset_mean;
     }
   }
   Eigen::SparseMatrix<double> system = extended_system(basis, band);  // lower triangle
@@ -633,6 +755,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   Eigen::VectorXd right =
       E.transpose() * Eigen::Map<const Eigen::VectorXd>(load.data(), static_cast<Eigen::Index>(relevant));
   Eigen::VectorXd mean_row;  // (v_i, 1) per unknown, pure Neumann only
+  double neumann_shift = 0.0;
   if (pure_neumann) {
     mean_row = E.transpose() * Eigen::Map<const Eigen::VectorXd>(mean_load.data(), static_cast<Eigen::Index>(relevant));
     const double total = right.sum();  // (f, 1) + <h, 1>: the test function 1 is the vector of ones
@@ -644,10 +767,41 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
           "over the boundary) = 0, but it is " +
           scientific(total) + " (relative to the integrals of |f| and |h|: " + scientific(defect) +
           "); fix the data or give a part a Dirichlet or Robin condition");
-    right -= (total / mean_row.sum()) * mean_row;
+    neumann_shift = total / mean_row.sum();
+    right -= neumann_shift * mean_row;
     Eigen::Index pinned = 0;
     system.diagonal().maxCoeff(&pinned);
     system.coeffRef(pinned, pinned) *= 2.0;
+  }
+  // The second function's unknowns after P's (the constant, P's vector of
+  // ones, is still the null space of a pure Neumann problem).
+  Eigen::SparseMatrix<double> second_select;
+  if (second) {
+    auto extended = [&](const std::vector<double>& b) {
+      return Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, b) * E);
+    };
+    const Eigen::SparseMatrix<double> own = extended(second_band);
+    second_select = second_function_unknowns(own);
+    const Eigen::SparseMatrix<double> select_t = second_select.transpose();
+    const Eigen::SparseMatrix<double> qp = select_t * extended(coupling_band);
+    const Eigen::SparseMatrix<double> qq = select_t * own * second_select;
+    system = joined_system(system, qp, qq);
+    auto rows_of = [&](const std::vector<double>& v) {
+      return Eigen::VectorXd(select_t * (E.transpose() * Eigen::Map<const Eigen::VectorXd>(
+                                                             v.data(), static_cast<Eigen::Index>(relevant))));
+    };
+    const Eigen::Index p = right.size(), q = second_select.cols();
+    Eigen::VectorXd joined_right(p + q);
+    joined_right << right, rows_of(second_load);
+    if (pure_neumann) {
+      Eigen::VectorXd joined_mean(p + q);
+      joined_mean << mean_row, rows_of(second_mean_load);
+      joined_right.tail(q) -= neumann_shift * joined_mean.tail(q);
+      mean_row = joined_mean;
+    }
+    right = joined_right;
+    report.unknowns += static_cast<std::size_t>(q);
+    report.second_unknowns = static_cast<std::size_t>(q);
   }
   std::size_t diagonal_entries = 0;
   for (Eigen::Index p = 0; p < system.outerSize(); ++p) {
@@ -659,8 +813,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 
   // Solve.
   LinearSolverKind kind = options.linear_solver;
+  // The structure's second function has functions of very different energy near the band's edge
+  // (diagonal entries over 1e14 apart), where incomplete Cholesky needs 1e4 iterations and more.
   if (kind == LinearSolverKind::Automatic)
-    kind = D == 2 ? LinearSolverKind::ConjugateGradient : LinearSolverKind::JacobiConjugateGradient;
+    kind = second   ? LinearSolverKind::Direct
+           : D == 2 ? LinearSolverKind::ConjugateGradient
+                    : LinearSolverKind::JacobiConjugateGradient;
   const double tolerance =
       options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
   Eigen::VectorXd coefficients;
@@ -680,8 +838,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
-  if (pure_neumann) coefficients.array() -= mean_row.dot(coefficients) / mean_row.sum();  // zero mean
-  solution.spline_coefficients = E * coefficients;
+  const Eigen::Index p_unknowns = E.cols();
+  if (pure_neumann)  // zero mean of u = u0 + sum c v: the constant is P's vector of ones
+    coefficients.head(p_unknowns).array() -=
+        (mean_row.dot(coefficients) + offset_mean) / mean_row.head(p_unknowns).sum();
+  solution.spline_coefficients = E * coefficients.head(p_unknowns);
+  if (second) solution.second_coefficients = E * (second_select * coefficients.tail(second_select.cols()));
   timer.lap(&StageSeconds::solve);
 
   if (options.estimate_condition) {

@@ -39,10 +39,9 @@ TrialStructure dirichlet_trial(const BoundaryStructure& structure) {
   return t;
 }
 
-Expr localized_weight(const Expr& w, double band, int power) {
+Expr localized_weight(const Expr& w, const Expr& distance, double band, int power) {
   if (band <= 0.0) return w;
-  // W psi-cut: W (1 - W / band)_+^power = band psi(W / band), psi(s) = s (1 - s)^power.
-  return w * pow_int(clamp_nonneg(1.0 - w / band), power);
+  return w * pow_int(clamp_nonneg(1.0 - distance / band), power);
 }
 
 TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure, double band, int power) {
@@ -89,9 +88,14 @@ TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructur
   // D1 follows the global W (smooth, normalized on the parts); the multiplier of the structure is
   // W cut off at distance band (localized_weight), so that W times the second derivatives of the
   // splines in grad u is O(band) instead of O(1). The condition still holds exactly: on the parts
-  // the cut W vanishes and D1(cut W) = |grad W|^2 psi'(0) = 1.
+  // the cut W vanishes and D1(cut W) = |grad W|^2 psi'(0) = 1. The cut is by omega_R, the distance
+  // to the structured parts (by W, which vanishes on the Dirichlet parts too, V would reach along
+  // those as well). The second function's multiplier is V omega_R: a second-order zero on the
+  // structured parts, and V times the Robin defect of the solution is V omega_R times a smooth
+  // function.
   const Expr global = t.robin_weight;
-  t.robin_weight = localized_weight(global, band, power);
+  t.robin_weight = localized_weight(global, t.robin_field, band, power);
+  if (band > 0.0) t.second_weight = t.robin_weight * t.robin_field;
   const Expr& w = t.robin_weight;
   const Expr& omega_d = structure.dirichlet_weight;
   const Expr& g = structure.dirichlet_extension;

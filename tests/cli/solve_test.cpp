@@ -119,8 +119,10 @@ TEST(CliSolve, RobinBandFlagsReachTheStructure) {
   const fs::path cut = scratch("band_cut.vtu"), global = scratch("band_global.vtu");
   Result r = run("solve " + problem + " -o " + cut.string() + common + " --robin-band 0.5 --robin-band-power 4");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  // 0.5 L (h / L)^(1/2) with L = 2, h = 1/8: 0.25.
-  EXPECT_NE(r.output.find("cut off at distance 0.25 (--robin-band 0.5), power 4"), std::string::npos) << r.output;
+  // 0.5 L (h / L)^(2/3) with L = 2, h = 1/8: 0.15749.
+  EXPECT_NE(r.output.find("cut off at distance 0.15749 (--robin-band 0.5), power 4; second function on"),
+            std::string::npos)
+      << r.output;
   r = run("solve " + problem + " -o " + global.string() + common + " --robin-band 0");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("the global distance field"), std::string::npos) << r.output;

@@ -220,6 +220,23 @@ TEST(PoissonConvergence, PureNeumannDiskWithZeroMean) {
   }
 }
 
+TEST(PoissonConvergence, PureNeumannDiskByTheStructure) {
+  // The Robin structure with its second function on the whole circle: the
+  // constant (P's vector of ones) is still the null space, and the
+  // second function's rows take the same compatibility shift.
+  const PoissonProblem problem = pure_neumann_disk();
+  SolverOptions options;
+  options.degree = 3;
+  options.robin = RobinRoute::Structure;
+  options.estimate_condition = false;
+  const auto runs = refine<2>(problem, options, {0.125, 0.0625, 0.03125});
+  for (const RefinementRun& r : runs)
+    std::printf("  structure h = %-7.4g second-function unknowns %zu, L2 %.2e, H1 %.2e\n", r.h,
+                r.report.second_unknowns, *r.report.l2_error, *r.report.h1_error);
+  EXPECT_GT(runs.back().report.second_unknowns, 0u);
+  expect_rates(runs, 4 - 0.3, 3 - 0.3);
+}
+
 TEST(PoissonProblemErrors, IncompatibleNeumannDataAreRefused) {
   // (f, 1) + <h, 1> = pi * 0.01 instead of 0 (relative 5e-4): far above
   // the quadrature's defect (about 1e-15, printed by the test above).

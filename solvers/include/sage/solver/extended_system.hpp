@@ -27,4 +27,9 @@ namespace sage::solver {
 template <int D>
 Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band);
 
+/// A itself, relevant x relevant, from a band of the same layout that need
+/// not be symmetric (the Robin structure's coupling of its two functions).
+template <int D>
+Eigen::SparseMatrix<double> band_matrix(const SplineBasis<D>& basis, const std::vector<double>& band);
+
 }  // namespace sage::solver

@@ -53,7 +53,8 @@ namespace sage::solver {
 /// with incomplete Cholesky; JacobiConjugateGradient: with the diagonal
 /// (cheaper to set up, more iterations). Automatic: conjugate gradients
 /// with incomplete Cholesky in 2D, Jacobi in 3D, whose wider stencils
-/// make the incomplete factorization expensive.
+/// make the incomplete factorization expensive; Direct for the Robin
+/// structure with its second function.
 enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient };
 
 struct SolverOptions {
@@ -61,8 +62,9 @@ struct SolverOptions {
   double cell_width = 0.05;  // h of the background grid
   BasisKind basis = BasisKind::Web;
   RobinRoute robin = RobinRoute::Weak;  // Structure needs degree >= 2
-  // Structure route: the multiplier W is cut off at robin_band_width(): robin_band L (h / L)^(1/n), L the
-  // longest side of the box, n the degree; 0 keeps the global W. robin_band_power: the cut-off's power (>= 2).
+  // Structure route: the multiplier W is cut off at robin_band_width(), robin_band L (h / L)^(2/3) from
+  // the structured parts (L the longest side of the box), and the structure gets its second function
+  // there; 0 keeps the global W and no second function. robin_band_power: the cut-off's power (>= 2).
   double robin_band = 1.0;
   int robin_band_power = 8;
   LinearSolverKind linear_solver = LinearSolverKind::Automatic;
@@ -74,7 +76,7 @@ struct SolverOptions {
 };
 
 /// The structure route's cut-off distance (SolverOptions::robin_band).
-double robin_band_width(double fraction, double cell_width, double longest_side, int degree);
+double robin_band_width(double fraction, double cell_width, double longest_side);
 
 /// The quadrature points used, for display: 3 coordinates per point (z = 0
 /// in 2D), the weight, and 1 for surface points, 0 for volume points.
@@ -90,6 +92,7 @@ struct StageSeconds {
 struct SolveReport {
   std::size_t cells = 0, cells_inside = 0, cells_cut = 0;
   std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
+  std::size_t second_unknowns = 0;  // of the structure's second function (included in unknowns)
   std::size_t volume_points = 0, surface_points = 0;
   std::string linear_solver;
   int iterations = 0;                // 1 for a direct solve
@@ -130,8 +133,9 @@ class PoissonSolution {
   SolveReport report;
   SplineBasis<D> basis;
   Eigen::VectorXd spline_coefficients;  // of the relevant B-splines (E c)
-  /// Roots: scale, u0, then transport per axis for the structure route
-  /// (trial_structure.hpp).
+  Eigen::VectorXd second_coefficients;  // the structure's second function Q (empty without one)
+  /// Roots: scale, u0, then transport per axis for the structure route,
+  /// then V W when it has a second function (trial_structure.hpp).
   std::shared_ptr<const Tape> structure;
   std::shared_ptr<const Tape> domain;  // omega
   QuadratureDump quadrature;           // when SolverOptions::keep_quadrature

@@ -13,8 +13,9 @@
 // P = g~ + omega_D Phi, Phi = sum c_j B_j, and W a field vanishing on the
 // Dirichlet parts and the structured parts, normalized there so that
 // grad W = -n (n the outward normal; W >= 0 inside), D1 = grad W . grad,
-// and V = localized_weight(W, band) (V = W (1 - W / band)_+^m: V = 0 and
-// grad V = grad W on the parts, V = 0 from W = band on):
+// and V = localized_weight(W, omega_R, band) (V = W (1 - omega_R / band)_+^m,
+// omega_R the structured parts' own field: V = 0 and grad V = grad W on the
+// parts, V = 0 from omega_R = band on):
 //
 //     u = P - V D1(P) + V (beta P - h) / k.
 //
@@ -27,7 +28,16 @@
 //     u0 = g~ (1 + V beta / k) - V D1(g~) - V h / k.
 // Why the cut: grad u holds V times second derivatives of Phi, which
 // degree-n splines approximate to O(h^(n-1)) only; with V = W = O(1) inside
-// the route loses an order, with V = O(band) it does not (README).
+// the route loses an order.
+//
+// With the cut, Rvachev's second function: u += M Q, Q = sum q_i B_i on
+// the B-splines that meet the band, M = V omega_R. M vanishes to second
+// order on the structured parts (and is 0 beyond the band), so the
+// condition still holds for every coefficient vector, and M Q absorbs V
+// times the Robin defect of the solution, which P alone could only follow
+// with a layer of the band's width. With the band ~ h^(2/3) of the solver
+// (poisson.hpp) the rates are those of degree n (README;
+// bench/robin_structure_study in 1D).
 //
 // W: omega_R, the R0-conjunction of the named Neumann and Robin parts'
 // oriented selectors, each normalized (FORMULAS.md); with Dirichlet parts
@@ -64,22 +74,26 @@ struct TrialStructure {
   Expr offset;                         // u0
   Expr robin_weight;                   // V, the cut-off W (0 for the Dirichlet structure)
   Expr robin_field;                    // omega_R, for the checks of the solver (0 for the Dirichlet structure)
+  Expr second_weight = 0.0;            // the second function's multiplier (0: no second function)
   bool joined_with_dirichlet = false;  // W built with omega_D (singular where omega_D and omega_R both vanish)
   bool structured() const { return !transport.empty(); }
+  bool second_function() const { return !second_weight.is_constant(0.0); }
 };
 
 TrialStructure dirichlet_trial(const BoundaryStructure& structure);
 
-/// W cut off at distance band from the structured parts:
-/// W (1 - W / band)_+^power = band psi(W / band) with psi(s) = s (1 - s)^power
-/// for s < 1, 0 beyond. psi(0) = 0 and psi'(0) = 1 keep W normalized on the
-/// structured parts; the cut-off is C^(power - 1). band <= 0 returns W.
-Expr localized_weight(const Expr& w, double band, int power);
+/// W cut off at distance band from the structured parts, measured by
+/// their normalized field `distance`: W (1 - distance / band)_+^power.
+/// Where distance = W near the parts it is band psi(W / band) with psi(s) =
+/// s (1 - s)^power: psi(0) = 0 and psi'(0) = 1 keep W normalized on them;
+/// the cut-off is C^(power - 1). band <= 0 returns W.
+Expr localized_weight(const Expr& w, const Expr& distance, double band, int power);
 
 /// The structure route. Requires structure.has_weak_parts. band > 0 cuts W
 /// off (localized_weight) with the given power (>= 2, so that the cut W is
 /// C^1; 3 or more makes it C^2, as the solver's second derivatives of u
-/// assume); band <= 0 keeps the global W.
+/// assume) and adds the second function; band <= 0 keeps the global W
+/// and no second function.
 TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructure& structure, double band = 0.0,
                            int power = 3);
 
