@@ -54,7 +54,7 @@ BandRows band_rows(const SplineBasis<D>& basis, const std::vector<double>& band)
   const std::size_t relevant = basis.relevant.size();
   if (band.size() != relevant * static_cast<std::size_t>(stencil) ||
       static_cast<std::size_t>(basis.extension.rows()) != relevant)
-    throw std::invalid_argument("extended_system: the band does not match the basis");
+    throw std::invalid_argument("the band does not match the basis");
   std::vector<long long> shift(static_cast<std::size_t>(stencil));  // slot -> global spline offset
   for (int o = 0; o < stencil; ++o) {
     long long s = 0, stride = 1;
