@@ -20,7 +20,13 @@
 // then the unit ball of examples/problems/ball_robin.json with both weights
 // (12, 16, 24 cells across). Degrees after `robin` replace 2 and 3.
 //
-//   solve_bench [disk|ball|robin [DEGREE...]|all]     (OMP_NUM_THREADS=1 for one-thread figures)
+// `solve_bench solids` (not part of `all`): issue 24's solids with edges
+// and corners, Dirichlet data that differ from u inside (manufactured.hpp):
+// the square and the cube, and the plate with a hole with mixed conditions
+// on named faces; both Dirichlet routes (Nitsche's, the structure), degrees
+// 2 and 3 (or those given), with the cut cells' points and the rates.
+//
+//   solve_bench [disk|ball|robin [DEGREE...]|solids [DEGREE...]|all]   (OMP_NUM_THREADS=1 for one-thread figures)
 
 #include <sage/derivative.hpp>
 #include <sage/primitives.hpp>
@@ -122,6 +128,43 @@ void robin_rates(const char* title, const PoissonProblem& problem, int degree, R
   }
 }
 
+/// Work and precision under refinement, with the observed rates: the
+/// solid problems of issue 24 (edges and corners), one Dirichlet route.
+template <int D>
+void solid_rates(const char* title, const PoissonProblem& problem, int degree, DirichletRoute route,
+                 const std::vector<int>& cells_across) {
+  std::printf("\n%s, degree %d, Dirichlet %s\n", title, degree,
+              route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure");
+  std::printf("%6s %9s %8s %8s %8s %8s %8s %8s %8s %9s %10s %10s %7s %7s\n", "cells", "unknowns", "classify", "quadr.",
+              "assembly", "solve", "cpu s", "peak MB", "cut", "pts/cut", "L2 rel.", "H1 rel.", "L2 rate", "H1 rate");
+  double last_l2 = 0.0, last_h1 = 0.0, last_h = 0.0;
+  double longest = 0.0;
+  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  for (int n : cells_across) {
+    SolverOptions options;
+    options.degree = degree;
+    options.cell_width = longest / n;
+    options.dirichlet = route;
+    options.estimate_condition = false;
+    const SolveReport r = solve_poisson<D>(problem, options).report;
+    const StageSeconds& s = r.cpu_seconds;
+    const double h = options.cell_width;
+    const double cut_points = static_cast<double>(r.cut_volume_points) / static_cast<double>(r.cells_cut);
+    std::printf("%6d %9zu %8.3f %8.3f %8.3f %8.3f %8.3f %8.0f %8zu %9.1f %10.3e %10.3e", n, r.unknowns,
+                s.classification, s.quadrature, s.assembly, s.solve, s.total() - s.errors, peak_megabytes(),
+                r.cells_cut, cut_points, *r.l2_error, *r.h1_error);
+    if (last_l2 > 0.0)
+      std::printf(" %7.2f %7.2f", std::log(last_l2 / *r.l2_error) / std::log(last_h / h),
+                  std::log(last_h1 / *r.h1_error) / std::log(last_h / h));
+    if (r.masked_boxes > 0) std::printf("  (%zu masked sub-boxes)", r.masked_boxes);
+    std::printf("\n");
+    std::fflush(stdout);
+    last_l2 = *r.l2_error;
+    last_h1 = *r.h1_error;
+    last_h = h;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -144,6 +187,25 @@ int main(int argc, char** argv) {
     table<3>("Unit ball, u = sin(pi x) sin(pi y) sin(pi z) + x", ball3, 3, {8, 12, 16, 18, 19, 20});
     // The former fixed tolerance, in the same run: what the automatic one saves.
     table<3>("Unit ball, same", ball3, 3, {18, 19}, 1e-12);
+  }
+  if (which == "solids") {
+    // Issue 24: solids with edges and corners, Dirichlet data that differ
+    // from u inside; both Dirichlet routes side by side.
+    std::vector<int> degrees;
+    for (int i = 2; i < argc; ++i) degrees.push_back(std::atoi(argv[i]));
+    if (degrees.empty()) degrees = {2, 3};
+    for (int degree : degrees)
+      for (const DirichletRoute route : {DirichletRoute::Weak, DirichletRoute::Structure})
+        solid_rates<2>("Square (-1,1)^2, u = e^x sin(pi y/2) + x y, g = u + 2 (1-x^2)(1-y^2)", dirichlet_box(2), degree,
+                       route, {16, 32, 64, 128});
+    for (int degree : degrees)
+      for (const DirichletRoute route : {DirichletRoute::Weak, DirichletRoute::Structure})
+        solid_rates<3>("Cube (-1,1)^3, u = e^x sin(pi y/2) cos z + x y z, g = u + 2 prod (1-x_a^2)", dirichlet_box(3),
+                       degree, route, {6, 12, 24});
+    for (int degree : degrees)
+      for (const DirichletRoute route : {DirichletRoute::Weak, DirichletRoute::Structure})
+        solid_rates<3>("Plate (-1,1)^2 x (0,1) minus cylinder r = 0.4: Dirichlet sides, Neumann top/bottom, Robin hole",
+                       plate_with_hole(), degree, route, {8, 16, 32});
   }
   if (which == "robin") {
     const PoissonProblem problem = square_with_robin_hole(1.0, 1.0);

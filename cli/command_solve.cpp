@@ -27,7 +27,8 @@ namespace sage::cli {
 namespace {
 
 struct SolveCommand {
-  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid, robin;
+  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid, robin,
+                                                          dirichlet = "auto";
   solver::SolverOptions options;
   std::optional<int> cells;
   std::optional<double> h;
@@ -130,10 +131,11 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
 
   if (command.quiet) return;
   const auto& s = r.seconds;
-  std::printf("%s: %dD Poisson, degree %d, %s basis, %s Robin/Neumann route, h = %g\n", command.problem_path.c_str(), D,
-              command.options.degree, command.basis.c_str(),
+  std::printf("%s: %dD Poisson, degree %d, %s basis, Dirichlet by %s, %s Robin/Neumann route, h = %g\n",
+              command.problem_path.c_str(), D, command.options.degree, command.basis.c_str(), r.dirichlet_route.c_str(),
               command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
               command.options.cell_width);
+  if (r.nitsche_penalty) std::printf("  Nitsche penalty %g / h\n", *r.nitsche_penalty);
   if (r.robin_band) {
     if (*r.robin_band > 0.0)
       std::printf(
@@ -145,6 +147,11 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   }
   std::printf("  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface\n", r.cells,
               r.cells_inside, r.cells_cut, r.volume_points, r.surface_points);
+  if (r.masked_boxes > 0 || r.unresolved_surface_boxes > 0)
+    std::printf(
+        "  warning: %zu sub-boxes of cut cells had no height direction and were filled with %zu sign-masked points "
+        "(first-order accurate), and %zu sub-boxes' boundary got no surface points\n",
+        r.masked_boxes, r.masked_points, r.unresolved_surface_boxes);
   std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
               r.outer_splines, r.nonzeros);
   std::printf("  solver: %s, %d iteration%s", r.linear_solver.c_str(), r.iterations, r.iterations == 1 ? "" : "s");
@@ -186,6 +193,11 @@ int run_solve(const std::vector<std::string>& args) {
   add("robin", po::value(&command.robin),
       "weak (Neumann and Robin conditions by boundary integrals; default) or structure (Rvachev's solution "
       "structure as well, degree >= 2; overrides the problem file's \"robin\")");
+  add("dirichlet", po::value(&command.dirichlet)->default_value(command.dirichlet),
+      "auto (weak, except with --robin structure or --basis weighted), weak (Nitsche's method) or structure "
+      "(u = omega_D Phi + g~, the R-function structure)");
+  add("nitsche-penalty", po::value(&command.options.nitsche_penalty),
+      "weak Dirichlet conditions: the penalty sigma h (default 4 (degree + 1)^2)");
   add("robin-band", po::value(&command.options.robin_band)->default_value(command.options.robin_band),
       "structure route: the multiplier is cut off at distance F L (h/L)^(2/3) from the Robin parts, L the "
       "box's longest side, where the structure's second function lives (0: no cut-off and no second function, "
@@ -240,6 +252,14 @@ int run_solve(const std::vector<std::string>& args) {
   } else {
     throw UsageError{"--solver must be auto, direct, cg or jacobi, not '" + command.linear_solver + "'"};
   }
+
+  try {
+    command.options.dirichlet = solver::parse_dirichlet_route(command.dirichlet);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError{std::string("--dirichlet: ") + e.what()};
+  }
+  if (vm.count("nitsche-penalty") && !(command.options.nitsche_penalty > 0.0))
+    throw UsageError{"--nitsche-penalty must be positive"};
 
   std::optional<solver::RobinRoute> robin;
   if (!command.robin.empty()) {

@@ -38,15 +38,23 @@ Expr norm_squared(const std::array<Expr, 3>& q, int dimension) {
   return s;
 }
 
-// Axial coordinate h and squared distance to the axis rho^2 of p.
+// Axial coordinate h and squared distance to the axis rho^2 of p, as
+// |q x u|^2: a sum of squares, with no cancellation of |q|^2 - h^2, and
+// for an axis along a coordinate axis exactly the other two coordinates'
+// squares (products with u's zero components fold away), so interval
+// bounds see that it does not depend on the axial coordinate.
 struct Axial {
   Expr h, rho_squared;
 };
 Axial axial(const Vec3& origin, const Vec3& direction, const char* what) {
   const Vec3 u = unit(direction, 3, what);
   const auto q = offset_coordinates(origin, 3);
-  Expr h = dot(q, u, 3);
-  return {h, clamp_nonneg(norm_squared(q, 3) - square(h))};
+  Expr rho_squared = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    rho_squared += square(q[j] * u[k] - q[k] * u[j]);
+  }
+  return {dot(q, u, 3), rho_squared};
 }
 }  // namespace
 

@@ -3,17 +3,14 @@
 #include <sage/solver/gauss.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <functional>
+#include <limits>
 
 namespace sage::solver {
 
 namespace {
-
-std::vector<Expr> value_and_gradient(const Expr& omega, int dimension) {
-  std::vector<Expr> roots{omega};
-  for (const Expr& g : gradient(omega, dimension)) roots.push_back(g);
-  return roots;
-}
 
 /// The root of f in [a, b] given f(a) and f(b) of opposite signs (Illinois
 /// variant of regula falsi: superlinear, never leaves the bracket).
@@ -44,7 +41,7 @@ double bracketed_root(F&& f, double a, double b, double fa, double fb) {
 
 /// Appends the roots of f in (a, b) found between `samples` equal steps.
 template <class F>
-void append_roots(F&& f, double a, double b, std::vector<double>& roots, int samples = 4) {
+void append_roots(F&& f, double a, double b, std::vector<double>& roots, int samples) {
   double x0 = a, f0 = f(a);
   for (int s = 1; s <= samples; ++s) {
     const double x1 = a + (b - a) * s / samples, f1 = f(x1);
@@ -56,7 +53,7 @@ void append_roots(F&& f, double a, double b, std::vector<double>& roots, int sam
 }
 
 /// Calls visit(t, w) for a Gauss rule on each piece of [a, b] between the
-/// sorted break points.
+/// break points.
 template <class Visit>
 void gauss_on_pieces(double a, double b, std::vector<double> breaks, int points, Visit&& visit) {
   std::sort(breaks.begin(), breaks.end());
@@ -77,298 +74,875 @@ void gauss_on_pieces(double a, double b, std::vector<double> breaks, int points,
 /// Sign margin of an interval: its distance from 0, or 0 if it holds 0.
 double margin(const Interval& i) { return i.lo > 0 ? i.lo : (i.hi < 0 ? -i.hi : 0.0); }
 
+/// A value enclosure that is 0 up to the rounding of an exact zero: the
+/// piece vanishes on the whole box (a face of the domain on a cell face).
+bool identically_zero(const Interval& v) { return v.lo >= -1e-300 && v.hi <= 1e-300; }
+
+std::vector<Expr> value_and_gradient(const Expr& f, int dimension) {
+  std::vector<Expr> roots{f};
+  for (const Expr& g : gradient(f, dimension)) roots.push_back(g);
+  return roots;
+}
+
 }  // namespace
 
-DomainTapes::DomainTapes(const Expr& omega, int dimension)
-    : value(omega, dimension), enclosure(value_and_gradient(omega, dimension), dimension) {}
+DomainPieces::DomainPieces(const Expr& omega, int dimension_) : dimension(dimension_) {
+  const BooleanForm form = boolean_form(omega);
+  formula = form.formula;
+  value.reserve(form.pieces.size());
+  enclosure.reserve(form.pieces.size());
+  for (const Expr& piece : form.pieces) {
+    value.emplace_back(piece, dimension_);
+    enclosure.emplace_back(value_and_gradient(piece, dimension_), dimension_);
+  }
+}
 
-template <int D>
-CellQuadrature<D>::CellQuadrature(const DomainTapes& tapes, QuadratureOptions options)
-    : options_(options), value_(tapes.value), enclosure_(tapes.enclosure), gradient_(tapes.value) {}
+// ---------------------------------------------------------------------------
+// Classification of the grid's cells, blocks first.
 
-template <int D>
-double CellQuadrature<D>::omega_at(const std::array<double, D>& p) {
-  value_.evaluate(p.data());
-  return value_.result();
+namespace {
+
+/// Interval evaluators of the pieces, made when first asked (a thread
+/// touches only the pieces near its blocks).
+class PieceIntervals {
+ public:
+  explicit PieceIntervals(const DomainPieces& pieces) : pieces_(pieces), eval_(pieces.piece_count()) {}
+  template <int D>
+  Interval over(std::uint32_t piece, const std::array<Interval, D>& box) {
+    auto& e = eval_[piece];
+    if (!e) e = std::make_unique<Evaluator<Interval>>(pieces_.value[piece]);
+    e->evaluate_with(box.data());
+    return e->result();
+  }
+
+ private:
+  const DomainPieces& pieces_;
+  std::vector<std::unique_ptr<Evaluator<Interval>>> eval_;
+};
+
+/// +1 when the piece is positive over the box, -1 when negative, 0 when unknown.
+int sign_of(const Interval& v) { return v.lo > 0 ? 1 : (v.hi < 0 ? -1 : 0); }
+
+/// The sign of a piece over the box's interior when its zero set meets the
+/// box only at its boundary, to 1e-12 of its range (a face of the domain on
+/// a cell face: the enclosure is [0 - rounding, x]); 0 otherwise.
+int touching_sign(const Interval& v) {
+  const double slack = 1e-12 * (v.hi - v.lo);
+  if (v.lo >= -slack && v.hi > slack) return 1;
+  if (v.hi <= slack && v.lo < -slack) return -1;
+  return 0;
+}
+
+/// A cell's kind from the formula restricted to it (the pieces whose sign
+/// over the cell is not known) and the pieces' enclosures there. Pieces that
+/// only touch the cell count by the sign of its interior for the volume, so
+/// a cell with a face of the domain on its boundary is Inside, but stay in
+/// the formula: its surface rule still runs for them.
+CellDomain cell_domain(const BooleanFormula& restricted, const std::function<Interval(std::uint32_t)>& enclosure) {
+  if (restricted.is_constant()) return {restricted.constant_value() ? CellKind::Inside : CellKind::Outside, restricted};
+  const BooleanFormula volume =
+      restricted.restricted([&](std::size_t p) { return touching_sign(enclosure(static_cast<std::uint32_t>(p))); });
+  if (!volume.is_constant()) return {CellKind::Cut, restricted};
+  return {volume.constant_value() ? CellKind::Inside : CellKind::Outside, restricted};
 }
 
 template <int D>
-std::array<Interval, D + 1> CellQuadrature<D>::enclose(const Box<D>& box) {
-  std::array<Interval, D> vars{};
-  for (int a = 0; a < D; ++a) vars[a] = Interval(box.lo[a], box.hi[a]);
-  enclosure_.evaluate_with(vars.data());
-  std::array<Interval, D + 1> out{};
-  for (int r = 0; r <= D; ++r) out[r] = enclosure_.result(static_cast<std::size_t>(r));
+class GridClassifier {
+ public:
+  GridClassifier(const DomainPieces& pieces, const BackgroundGrid<D>& grid, std::vector<CellDomain>& out)
+      : grid_(grid), out_(out), intervals_(pieces), sign_(pieces.piece_count(), 0) {}
+
+  /// Cells lo[a] <= i[a] < hi[a].
+  void classify(std::array<int, D> lo, std::array<int, D> hi, const BooleanFormula& formula) {
+    if (formula.is_constant()) return fill(lo, hi, formula.constant_value() ? CellKind::Inside : CellKind::Outside);
+    std::array<Interval, D> box{};
+    for (int a = 0; a < D; ++a) box[a] = Interval(grid_.lo[a] + lo[a] * grid_.h, grid_.lo[a] + hi[a] * grid_.h);
+    const std::vector<std::uint32_t> pieces = formula.pieces();
+    for (const std::uint32_t p : pieces) sign_[p] = static_cast<signed char>(sign_of(intervals_.over<D>(p, box)));
+    const BooleanFormula restricted = formula.restricted([&](std::size_t p) { return int{sign_[p]}; });
+    if (restricted.is_constant())
+      return fill(lo, hi, restricted.constant_value() ? CellKind::Inside : CellKind::Outside);
+    int widest = 0;
+    for (int a = 1; a < D; ++a)
+      if (hi[a] - lo[a] > hi[widest] - lo[widest]) widest = a;
+    if (hi[widest] - lo[widest] == 1) {
+      out_[linear(lo)] = cell_domain(restricted, [&](std::uint32_t p) { return intervals_.over<D>(p, box); });
+      return;
+    }
+    const int middle = (lo[widest] + hi[widest]) / 2;
+    std::array<int, D> split_hi = hi, split_lo = lo;
+    split_hi[widest] = middle;
+    split_lo[widest] = middle;
+    classify(lo, split_hi, restricted);
+    classify(split_lo, hi, restricted);
+  }
+
+ private:
+  std::size_t linear(const std::array<int, D>& c) const {
+    std::size_t k = 0;
+    for (int a = D - 1; a >= 0; --a) k = k * static_cast<std::size_t>(grid_.cells[a]) + static_cast<std::size_t>(c[a]);
+    return k;
+  }
+  void fill(const std::array<int, D>& lo, const std::array<int, D>& hi, CellKind kind) {
+    std::array<int, D> c = lo;
+    while (true) {
+      out_[linear(c)].kind = kind;
+      int a = 0;
+      for (; a < D; ++a) {
+        if (++c[a] < hi[a]) break;
+        c[a] = lo[a];
+      }
+      if (a == D) return;
+    }
+  }
+
+  const BackgroundGrid<D>& grid_;
+  std::vector<CellDomain>& out_;
+  PieceIntervals intervals_;
+  std::vector<signed char> sign_;
+};
+
+}  // namespace
+
+template <int D>
+std::vector<CellDomain> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid) {
+  std::vector<CellDomain> out(grid.cell_count());
+  // Blocks of up to 8 cells per axis, shared among the threads.
+  constexpr int kBlock = 8;
+  std::array<int, D> blocks{};
+  std::size_t block_count = 1;
+  for (int a = 0; a < D; ++a) {
+    blocks[a] = (grid.cells[a] + kBlock - 1) / kBlock;
+    block_count *= static_cast<std::size_t>(blocks[a]);
+  }
+#pragma omp parallel
+  {
+    GridClassifier<D> classifier(pieces, grid, out);
+#pragma omp for schedule(dynamic, 1)
+    for (std::size_t b = 0; b < block_count; ++b) {
+      std::array<int, D> lo{}, hi{};
+      std::size_t rest = b;
+      for (int a = 0; a < D; ++a) {
+        const int index = static_cast<int>(rest % static_cast<std::size_t>(blocks[a]));
+        rest /= static_cast<std::size_t>(blocks[a]);
+        lo[a] = index * kBlock;
+        hi[a] = std::min(grid.cells[a], lo[a] + kBlock);
+      }
+      classifier.classify(lo, hi, pieces.formula);
+    }
+  }
   return out;
 }
 
-template <int D>
-CellKind CellQuadrature<D>::classify(const Box<D>& box) {
-  const Interval w = enclose(box)[0];
-  if (w.is_nan()) return CellKind::Cut;  // no proof either way: integrate with care
-  if (w.lo > 0) return CellKind::Inside;
-  if (w.hi < 0) return CellKind::Outside;
-  return CellKind::Cut;
-}
+template std::vector<CellDomain> classify_cells<2>(const DomainPieces&, const BackgroundGrid<2>&);
+template std::vector<CellDomain> classify_cells<3>(const DomainPieces&, const BackgroundGrid<3>&);
+
+// ---------------------------------------------------------------------------
+// The cut-cell rule.
 
 template <int D>
-void CellQuadrature<D>::append_rule(const Box<D>& box, CellKind kind, std::vector<VolumePoint<D>>& volume,
-                                    std::vector<SurfacePoint<D>>* surface) {
-  const Target target{&volume, surface};
-  if (kind == CellKind::Inside)
-    tensor_rule(box, false, options_.inside_points > 0 ? options_.inside_points : options_.points, target);
-  if (kind == CellKind::Cut) cut_rule(box, 0, target);
-}
+class CellQuadrature<D>::Rule {
+ public:
+  using Point = std::array<double, D>;
+  using Emit = std::function<void(const Point&, double)>;
 
-template <int D>
-void CellQuadrature<D>::tensor_rule(const Box<D>& box, bool masked, int points, Target target) {
-  const GaussRule& rule = gauss_legendre(points);
-  const int q = points;
-  int total = 1;
-  for (int a = 0; a < D; ++a) total *= q;
-  for (int k = 0; k < total; ++k) {
-    VolumePoint<D> p{};
-    p.weight = 1.0;
-    int rest = k;
+  Rule(const DomainPieces& pieces, QuadratureOptions options) : pieces_(pieces), options_(options), intervals_(pieces) {
+    const std::size_t n = pieces.piece_count();
+    value_.resize(n);
+    enclosure_.resize(n);
+    gradient_.resize(n);
+    inside_.assign(n, 0);
+  }
+
+  const QuadratureCounts& counts() const { return counts_; }
+
+  CellDomain classify(const Box<D>& box) {
+    const auto intervals = box_intervals(box);
+    auto enclosure = [&](std::uint32_t p) { return intervals_.over<D>(p, intervals); };
+    const BooleanFormula f =
+        pieces_.formula.restricted([&](std::size_t p) { return sign_of(enclosure(static_cast<std::uint32_t>(p))); });
+    return cell_domain(f, enclosure);
+  }
+
+  void append(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
+              std::vector<SurfacePoint<D>>* surface) {
+    volume_ = &volume;
+    surface_ = surface;
+    scale_ = 0.0;
+    for (int a = 0; a < D; ++a) scale_ = std::max(scale_, box.hi[a] - box.lo[a]);
+    if (cell.kind == CellKind::Inside) {
+      tensor(box, options_.inside_points > 0 ? options_.inside_points : options_.points, nullptr);
+      // Faces of the domain on the cell's faces (cell_domain()).
+      if (surface_ && !cell.formula.is_constant())
+        for (const std::uint32_t piece : cell.formula.pieces()) surface_rule(box, cell.formula, piece, 0);
+      return;
+    }
+    if (cell.kind == CellKind::Cut) cut(box, cell.formula, 0);
+  }
+
+ private:
+  // -- pieces ---------------------------------------------------------------
+  double piece_value(std::uint32_t i, const Point& p) {
+    auto& e = value_[i];
+    if (!e) e = std::make_unique<Evaluator<double>>(pieces_.value[i]);
+    e->evaluate(p.data());
+    return e->result();
+  }
+  double piece_gradient(std::uint32_t i, const Point& p, Point& g) {
+    auto& e = gradient_[i];
+    if (!e) e = std::make_unique<Evaluator<Tuple<D, 1>>>(pieces_.value[i]);
+    e->evaluate(p.data());
+    g = e->result().gradient();
+    return e->result().value();
+  }
+  /// Value and gradient enclosures of piece i over the box `x`.
+  std::array<Interval, D + 1> piece_enclosure(std::uint32_t i, const std::array<Interval, D>& x) {
+    auto& e = enclosure_[i];
+    if (!e) e = std::make_unique<Evaluator<Interval>>(pieces_.enclosure[i]);
+    e->evaluate_with(x.data());
+    std::array<Interval, D + 1> out{};
+    for (int r = 0; r <= D; ++r) out[r] = e->result(static_cast<std::size_t>(r));
+    return out;
+  }
+  static std::array<Interval, D> box_intervals(const Box<D>& box) {
+    std::array<Interval, D> x{};
+    for (int a = 0; a < D; ++a) x[a] = Interval(box.lo[a], box.hi[a]);
+    return x;
+  }
+  /// Whether the formula holds at p (every piece it reads evaluated there).
+  bool holds(const BooleanFormula& f, const std::vector<std::uint32_t>& pieces, const Point& p) {
+    for (const std::uint32_t i : pieces) inside_[i] = piece_value(i, p) >= 0 ? 1 : 0;
+    return f.holds(inside_);
+  }
+
+  // -- level functions of the base recursion --------------------------------
+  // A level is a function of the point: a piece, or a level evaluated on the
+  // root of another along an axis (their crossing), with some coordinates
+  // fixed (restricted to a face). Stored in an arena per cell.
+  struct Level {
+    std::uint32_t piece = 0;     // the body when child < 0
+    int child = -1, other = -1;  // else: child evaluated on the root of `other` along `axis`
+    int axis = -1;
+    double lo = 0, hi = 0;  // where that root is sought (extended beyond by secants)
+    unsigned fixed = 0;     // axes fixed at fixed_value
+    Point fixed_value{};
+    int family = -1;  // restrictions of one monotone level along one axis: they never cross
+  };
+
+  int add_level(const Level& l) {
+    levels_.push_back(l);
+    return static_cast<int>(levels_.size() - 1);
+  }
+  int restrict_level(int level, int axis, double value, int family) {
+    Level l = levels_[static_cast<std::size_t>(level)];
+    l.fixed |= 1u << axis;
+    l.fixed_value[axis] = value;
+    l.family = family;
+    return add_level(l);
+  }
+  int crossing_level(int child, int other, int axis, double lo, double hi) {
+    Level l;
+    l.child = child;
+    l.other = other;
+    l.axis = axis;
+    l.lo = lo;
+    l.hi = hi;
+    return add_level(l);
+  }
+
+  /// The level's value at p, and its gradient (0 along fixed axes) when asked.
+  double level_value(int index, Point p, Point* gradient) {
+    const Level l = levels_[static_cast<std::size_t>(index)];
+    for (int a = 0; a < D; ++a)
+      if (l.fixed & (1u << a)) p[a] = l.fixed_value[a];
+    double v = 0.0;
+    if (l.child < 0) {
+      v = gradient ? piece_gradient(l.piece, p, *gradient) : piece_value(l.piece, p);
+    } else {
+      p[l.axis] = root_along(l.other, p, l.axis, l.lo, l.hi);
+      if (!gradient) {
+        v = level_value(l.child, p, nullptr);
+      } else {
+        Point child{}, other{};
+        v = level_value(l.child, p, &child);
+        level_value(l.other, p, &other);
+        // d root / dx_a = -(d other / dx_a) / (d other / dx_axis).
+        const double slope = other[l.axis];
+        for (int a = 0; a < D; ++a)
+          (*gradient)[a] = slope != 0.0 ? child[a] - child[l.axis] * other[a] / slope : child[a];
+        (*gradient)[l.axis] = 0.0;
+      }
+    }
+    if (gradient)
+      for (int a = 0; a < D; ++a)
+        if (l.fixed & (1u << a)) (*gradient)[a] = 0.0;
+    return v;
+  }
+
+  /// The root of level `other` along `axis` on the line through p: in
+  /// [lo, hi] when it changes sign there, else extrapolated by secants
+  /// (exact for planes), so that crossings are smooth functions.
+  double root_along(int other, Point p, int axis, double lo, double hi) {
+    auto f = [&](double s) {
+      p[axis] = s;
+      return level_value(other, p, nullptr);
+    };
+    double a = lo, b = hi, fa = f(a), fb = f(b);
+    if (fa == 0.0) return a;
+    if (fb == 0.0) return b;
+    if ((fa < 0) != (fb < 0)) return bracketed_root(f, a, b, fa, fb);
+    const double reach = 4.0 * (hi - lo);
+    for (int iteration = 0; iteration < 8 && fb != fa; ++iteration) {
+      const double c = std::clamp(b - fb * (b - a) / (fb - fa), lo - reach, hi + reach);
+      const double fc = f(c);
+      a = b;
+      fa = fb;
+      b = c;
+      fb = fc;
+      if (fc == 0.0 || std::abs(b - a) <= 1e-15 * (hi - lo)) break;
+    }
+    return b;
+  }
+
+  /// What a level does over a box of the free axes.
+  struct Shape {
+    bool may_vanish = true;
+    bool vanishes_everywhere = false;
+    unsigned monotone = 0;     // axes along which it is strictly monotone
+    unsigned independent = 0;  // axes it does not depend on
+    Point slope_margin{};      // per axis: the least |d/dx_a| over the box (relative to the largest gradient)
+  };
+
+  /// From interval enclosures when the level is a piece with fixed
+  /// coordinates (tight for primitives); from samples at the corners and
+  /// the centre otherwise, or when `sampled` (deep fields whose derivative
+  /// enclosures are too loose).
+  Shape shape(int index, const Box<D>& box, unsigned free, bool sampled) {
+    const Level& l = levels_[static_cast<std::size_t>(index)];
+    Shape s;
+    if (l.child < 0 && !sampled) {
+      std::array<Interval, D> x = box_intervals(box);
+      for (int a = 0; a < D; ++a)
+        if (l.fixed & (1u << a)) x[a] = Interval(l.fixed_value[a]);
+      const auto e = piece_enclosure(l.piece, x);
+      if (e[0].is_nan()) return sampled_shape(index, box, free);
+      s.may_vanish = e[0].contains_zero();
+      s.vanishes_everywhere = identically_zero(e[0]);
+      double largest = 0.0;
+      for (int a = 0; a < D; ++a)
+        if (free & (1u << a)) largest = std::max(largest, std::max(std::abs(e[a + 1].lo), std::abs(e[a + 1].hi)));
+      for (int a = 0; a < D; ++a) {
+        if (!(free & (1u << a))) continue;
+        const Interval& g = e[a + 1];
+        if (g.lo == 0.0 && g.hi == 0.0) s.independent |= 1u << a;
+        if (margin(g) > 0.0) {
+          s.monotone |= 1u << a;
+          s.slope_margin[a] = margin(g) / largest;
+        }
+      }
+      return s;
+    }
+    return sampled_shape(index, box, free);
+  }
+
+  Shape sampled_shape(int index, const Box<D>& box, unsigned free) {
+    Shape s;
+    const int m = std::popcount(free);
+    double low = std::numeric_limits<double>::infinity(), high = -low, largest = 0.0, least = low;
+    Point g_low{}, g_high{};
+    g_low.fill(std::numeric_limits<double>::infinity());
+    g_high.fill(-std::numeric_limits<double>::infinity());
+    double half_diagonal = 0.0;
+    for (int a = 0; a < D; ++a)
+      if (free & (1u << a)) half_diagonal += 0.25 * (box.hi[a] - box.lo[a]) * (box.hi[a] - box.lo[a]);
+    half_diagonal = std::sqrt(half_diagonal);
+    for (int corner = 0; corner <= (1 << m); ++corner) {
+      Point p{};
+      int bit = 0;
+      for (int a = 0; a < D; ++a) {
+        p[a] = 0.5 * (box.lo[a] + box.hi[a]);
+        if (!(free & (1u << a)) || corner == (1 << m)) continue;
+        p[a] = (corner >> bit++) & 1 ? box.hi[a] : box.lo[a];
+      }
+      Point g{};
+      const double v = level_value(index, p, &g);
+      low = std::min(low, v);
+      high = std::max(high, v);
+      least = std::min(least, std::abs(v));
+      double norm = 0.0;
+      for (int a = 0; a < D; ++a) {
+        if (!(free & (1u << a))) continue;
+        g_low[a] = std::min(g_low[a], g[a]);
+        g_high[a] = std::max(g_high[a], g[a]);
+        norm += g[a] * g[a];
+      }
+      largest = std::max(largest, std::sqrt(norm));
+    }
+    // No sign change at the samples and far from zero by the slopes seen:
+    // taken not to vanish (a level that does is still searched for roots).
+    s.may_vanish = !(low > 0 || high < 0) || least <= largest * half_diagonal;
     for (int a = 0; a < D; ++a) {
-      const auto n = static_cast<std::size_t>(rest % q);
-      rest /= q;
-      const double width = box.hi[a] - box.lo[a];
-      p.x[a] = box.lo[a] + width * rule.nodes[n];
-      p.weight *= width * rule.weights[n];
+      if (!(free & (1u << a))) continue;
+      const Interval g(g_low[a], g_high[a]);
+      if (std::max(std::abs(g.lo), std::abs(g.hi)) <= 1e-13 * largest) s.independent |= 1u << a;
+      if (margin(g) > 0.0) {
+        s.monotone |= 1u << a;
+        s.slope_margin[a] = margin(g) / largest;
+      }
     }
-    if (masked && omega_at(p.x) < 0) continue;
-    target.volume->push_back(p);
+    return s;
   }
-}
 
-template <int D>
-void CellQuadrature<D>::cut_rule(const Box<D>& box, int depth, Target target) {
-  const auto enclosure = enclose(box);
-  if (enclosure[0].lo > 0) return tensor_rule(box, false, options_.points, target);
-  if (enclosure[0].hi < 0) return;
-  int height = -1;
-  double best = 0.0;
-  for (int a = 0; a < D; ++a) {
-    const double m = margin(enclosure[static_cast<std::size_t>(a + 1)]);
-    if (m > best) {
-      best = m;
-      height = a;
+  // -- rules ----------------------------------------------------------------
+  /// Tensor Gauss points of the box; with a formula, only where it holds.
+  void tensor(const Box<D>& box, int points, const BooleanFormula* mask) {
+    const GaussRule& rule = gauss_legendre(points);
+    std::vector<std::uint32_t> pieces;
+    if (mask) pieces = mask->pieces();
+    int total = 1;
+    for (int a = 0; a < D; ++a) total *= points;
+    for (int k = 0; k < total; ++k) {
+      VolumePoint<D> p{};
+      p.weight = 1.0;
+      int rest = k;
+      for (int a = 0; a < D; ++a) {
+        const auto n = static_cast<std::size_t>(rest % points);
+        rest /= points;
+        const double width = box.hi[a] - box.lo[a];
+        p.x[a] = box.lo[a] + width * rule.nodes[n];
+        p.weight *= width * rule.weights[n];
+      }
+      if (mask && !holds(*mask, pieces, p.x)) continue;
+      volume_->push_back(p);
+      if (mask) ++counts_.masked_points;
     }
   }
-  if (height < 0 && depth > 0) height = sampled_height(box, -1);
-  if (height >= 0) return height_rule(box, height, target);
-  if (depth >= options_.max_depth) return tensor_rule(box, true, options_.points, target);
-  for (int child = 0; child < (1 << D); ++child) {
+
+  /// The formula restricted to `box` by the pieces' enclosures there, and
+  /// the enclosures of the pieces it still reads.
+  struct Restricted {
+    BooleanFormula formula;
+    std::vector<std::uint32_t> pieces;
+    std::vector<std::array<Interval, D + 1>> enclosure;  // per entry of pieces
+  };
+  Restricted restrict_to(const Box<D>& box, const BooleanFormula& formula) {
+    const auto x = box_intervals(box);
+    Restricted r;
+    const std::vector<std::uint32_t> before = formula.pieces();
+    std::vector<std::array<Interval, D + 1>> enclosures(before.size());
+    for (std::size_t k = 0; k < before.size(); ++k) {
+      enclosures[k] = piece_enclosure(before[k], x);
+      inside_[before[k]] = static_cast<char>(sign_of(enclosures[k][0]));
+    }
+    r.formula = formula.restricted([&](std::size_t p) { return int{static_cast<signed char>(inside_[p])}; });
+    r.pieces = r.formula.pieces();
+    for (const std::uint32_t p : r.pieces)
+      r.enclosure.push_back(
+          enclosures[static_cast<std::size_t>(std::lower_bound(before.begin(), before.end(), p) - before.begin())]);
+    return r;
+  }
+
+  /// A height direction for all `levels` over the box, or -1.
+  int height_direction(const std::vector<Shape>& shapes, unsigned free) {
+    int best_axis = -1;
+    double best = -1.0;
+    for (int a = 0; a < D; ++a) {
+      if (!(free & (1u << a))) continue;
+      double score = std::numeric_limits<double>::infinity();
+      bool ok = true;
+      for (const Shape& s : shapes) {
+        if (!s.may_vanish) continue;
+        if (s.monotone & (1u << a)) {
+          score = std::min(score, s.slope_margin[a]);
+        } else if (!(s.independent & (1u << a))) {
+          ok = false;
+        }
+      }
+      if (ok && score > best) {
+        best = score;
+        best_axis = a;
+      }
+    }
+    return best_axis;
+  }
+
+  /// The axis along which a level is monotone with the widest margin, or -1.
+  static int steepest_axis(const Shape& s) {
+    int best = -1;
+    for (int a = 0; a < D; ++a)
+      if ((s.monotone & (1u << a)) && (best < 0 || s.slope_margin[a] > s.slope_margin[best])) best = a;
+    return best;
+  }
+
+  void cut(const Box<D>& box, const BooleanFormula& formula, int depth) {
+    const Restricted r = restrict_to(box, formula);
+    if (r.formula.is_constant()) {
+      if (r.formula.constant_value()) tensor(box, options_.points, nullptr);
+      return;
+    }
+    // One piece: one pass gives the volume and the surface (the lines
+    // along its height direction carry both). Several: the volume in a
+    // direction where all are monotone, then each piece's surface in its own.
+    levels_.clear();
+    std::vector<int> piece_levels;
+    for (const std::uint32_t p : r.pieces) {
+      Level l;
+      l.piece = p;
+      piece_levels.push_back(add_level(l));
+    }
+    const unsigned all = (1u << D) - 1;
+    std::vector<Shape> shapes;
+    for (const int l : piece_levels) shapes.push_back(shape(l, box, all, false));
+    int e = height_direction(shapes, all);
+    if (e < 0 && depth > 0) {
+      shapes.clear();
+      for (const int l : piece_levels) shapes.push_back(shape(l, box, all, true));
+      e = height_direction(shapes, all);
+    }
+    if (e < 0) {
+      if (depth >= options_.max_depth) {
+        ++counts_.masked_boxes;
+        tensor(box, options_.points, &r.formula);
+        return;
+      }
+      for (int child = 0; child < (1 << D); ++child) cut(half(box, child, all), r.formula, depth + 1);
+      return;
+    }
+    // The single piece's surface comes with the volume's lines when they
+    // cross it (not when it is a wall parallel to them).
+    const bool single = r.pieces.size() == 1 && (shapes[0].monotone & (1u << e));
+    volume_rule(box, r, piece_levels, shapes, e, single);
+    if (surface_ && !single)
+      for (std::size_t k = 0; k < r.pieces.size(); ++k) surface_rule(box, r.formula, r.pieces[k], depth);
+  }
+
+  /// Child `child` of the box split in halves along the axes in `axes`.
+  static Box<D> half(const Box<D>& box, int child, unsigned axes) {
     Box<D> part = box;
+    int bit = 0;
     for (int a = 0; a < D; ++a) {
+      if (!(axes & (1u << a))) continue;
       const double mid = 0.5 * (box.lo[a] + box.hi[a]);
-      if (child & (1 << a)) {
+      if (child & (1 << bit++)) {
         part.lo[a] = mid;
       } else {
         part.hi[a] = mid;
       }
     }
-    cut_rule(part, depth + 1, target);
+    return part;
   }
-}
 
-template <int D>
-void CellQuadrature<D>::height_rule(const Box<D>& box, int e, Target target) {
-  if constexpr (D == 2) {
-    const int b = 1 - e;
-    std::vector<double> breaks;
-    for (const double face : {box.lo[e], box.hi[e]}) {
-      auto on_face = [&](double t) {
-        std::array<double, D> p{};
-        p[b] = t;
-        p[e] = face;
-        return omega_at(p);
-      };
-      append_roots(on_face, box.lo[b], box.hi[b], breaks);
+  /// The base levels of height direction e: the pieces on the bottom and
+  /// top faces, the e-independent pieces, and the crossings of the pieces
+  /// monotone in e.
+  std::vector<int> base_levels(const Box<D>& box, const std::vector<int>& piece_levels,
+                               const std::vector<Shape>& shapes, int e) {
+    std::vector<int> out;
+    std::vector<int> monotone;
+    for (std::size_t k = 0; k < piece_levels.size(); ++k) {
+      const int l = piece_levels[k];
+      if (shapes[k].independent & (1u << e)) {
+        out.push_back(restrict_level(l, e, box.lo[e], -1));
+        continue;
+      }
+      monotone.push_back(l);
+      const int family = next_family_++;
+      for (const double face : {box.lo[e], box.hi[e]}) out.push_back(restrict_level(l, e, face, family));
     }
-    gauss_on_pieces(box.lo[b], box.hi[b], breaks, options_.points, [&](double t, double w) {
-      std::array<double, D> p{};
-      p[b] = t;
-      line_rule(p, e, box, w, target);
-    });
-  } else {
-    base_rule_2d(box, e, box, 0, target);
+    for (std::size_t i = 0; i < monotone.size(); ++i)
+      for (std::size_t j = i + 1; j < monotone.size(); ++j)
+        out.push_back(crossing_level(monotone[i], monotone[j], e, box.lo[e], box.hi[e]));
+    return out;
   }
-}
 
-template <int D>
-void CellQuadrature<D>::base_rule_2d(const Box<D>& box, int e, const Box<D>& base, int depth, Target target) {
-  // The base is `base` with axis e ignored; the level sets on it are omega
-  // on the bottom and top faces of `box`.
-  int axes[2], n = 0;
-  for (int a = 0; a < D; ++a)
-    if (a != e) axes[n++] = a;
-  std::vector<double> faces;
-  std::vector<std::array<Interval, D + 1>> face_enclosures;
-  for (const double face : {box.lo[e], box.hi[e]}) {
-    Box<D> face_box = base;
-    face_box.lo[e] = face_box.hi[e] = face;
-    const auto enclosure = enclose(face_box);
-    if (enclosure[0].contains_zero() || enclosure[0].is_nan()) {
-      faces.push_back(face);
-      face_enclosures.push_back(enclosure);
-    }
-  }
-  auto base_point = [&](double u, double v, double w) {
-    std::array<double, D> p{};
-    p[axes[0]] = u;
-    p[axes[1]] = v;
-    line_rule(p, e, box, w, target);
-  };
-  const GaussRule& rule = gauss_legendre(options_.points);
-  auto plain = [&] {
-    const double wu = base.hi[axes[0]] - base.lo[axes[0]], wv = base.hi[axes[1]] - base.lo[axes[1]];
-    for (std::size_t i = 0; i < rule.nodes.size(); ++i)
-      for (std::size_t j = 0; j < rule.nodes.size(); ++j)
-        base_point(base.lo[axes[0]] + wu * rule.nodes[i], base.lo[axes[1]] + wv * rule.nodes[j],
-                   wu * wv * rule.weights[i] * rule.weights[j]);
-  };
-  if (faces.empty()) return plain();
-  // A base height direction along which every face level set is monotone.
-  int height = -1;
-  double best = 0.0;
-  for (int k = 0; k < 2; ++k) {
-    double m = 1e300;
-    for (const auto& enclosure : face_enclosures)
-      m = std::min(m, margin(enclosure[static_cast<std::size_t>(axes[k] + 1)]));
-    if (m > best) {
-      best = m;
-      height = axes[k];
-    }
-  }
-  if (height < 0 && depth > 0) height = sampled_height(base, e, faces);
-  if (height < 0) {
-    if (depth >= options_.max_depth) return plain();
-    for (int child = 0; child < 4; ++child) {
-      Box<D> part = base;
-      for (int k = 0; k < 2; ++k) {
-        const int a = axes[k];
-        const double mid = 0.5 * (base.lo[a] + base.hi[a]);
-        if (child & (1 << k)) {
-          part.lo[a] = mid;
-        } else {
-          part.hi[a] = mid;
+  void volume_rule(const Box<D>& box, const Restricted& r, const std::vector<int>& piece_levels,
+                   const std::vector<Shape>& shapes, int e, bool with_surface) {
+    const std::vector<int> levels = base_levels(box, piece_levels, shapes, e);
+    std::vector<std::uint32_t> along;  // pieces whose roots split the lines
+    for (std::size_t k = 0; k < r.pieces.size(); ++k)
+      if (!(shapes[k].independent & (1u << e))) along.push_back(r.pieces[k]);
+    const unsigned base = ((1u << D) - 1) & ~(1u << e);
+    const bool positive = r.formula.holds([](std::size_t) { return true; });
+    smooth_rule(box, base, levels, 0, [&](const Point& x, double w) {
+      Point p = x;
+      const double a = box.lo[e], b = box.hi[e];
+      std::vector<double> roots;
+      for (const std::uint32_t i : along)
+        append_roots(
+            [&](double s) {
+              p[e] = s;
+              return piece_value(i, p);
+            },
+            a, b, roots, 2);
+      std::sort(roots.begin(), roots.end());
+      if (with_surface && surface_) line_surface(p, e, a, b, roots, r.pieces[0], positive, w);
+      const GaussRule& rule = gauss_legendre(options_.points);
+      roots.push_back(b);
+      double start = a;
+      for (const double end : roots) {
+        const double length = end - start;
+        if (length > 0) {
+          p[e] = 0.5 * (start + end);
+          if (holds(r.formula, r.pieces, p)) {
+            for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
+              p[e] = start + length * rule.nodes[k];
+              volume_->push_back({p, w * length * rule.weights[k]});
+            }
+          }
         }
-      }
-      base_rule_2d(box, e, part, depth + 1, target);
-    }
-    return;
-  }
-  const int t_axis = axes[0] == height ? axes[1] : axes[0];
-  auto omega_face = [&](double face, double t, double s) {
-    std::array<double, D> p{};
-    p[e] = face;
-    p[t_axis] = t;
-    p[height] = s;
-    return omega_at(p);
-  };
-  std::vector<double> breaks;
-  for (const double face : faces)
-    for (const double s : {base.lo[height], base.hi[height]})
-      append_roots([&](double t) { return omega_face(face, t, s); }, base.lo[t_axis], base.hi[t_axis], breaks);
-  gauss_on_pieces(base.lo[t_axis], base.hi[t_axis], breaks, options_.points, [&](double t, double wt) {
-    std::vector<double> line_breaks;
-    for (const double face : faces)
-      append_roots([&](double s) { return omega_face(face, t, s); }, base.lo[height], base.hi[height], line_breaks, 2);
-    gauss_on_pieces(base.lo[height], base.hi[height], line_breaks, options_.points, [&](double s, double ws) {
-      if (t_axis == axes[0]) {
-        base_point(t, s, wt * ws);
-      } else {
-        base_point(s, t, wt * ws);
+        start = end;
       }
     });
-  });
-}
-
-template <int D>
-int CellQuadrature<D>::sampled_height(const Box<D>& box, int fixed_axis, const std::vector<double>& faces) {
-  // Interval bounds of derivatives of deep expressions (normalized fields)
-  // are often too loose to prove monotonicity. Accept a direction in which
-  // the derivative keeps one sign at the corners and the centre; the line
-  // rule below copes with the rare line that meets the boundary twice.
-  std::vector<std::array<double, D>> samples;
-  const std::vector<double> levels = faces.empty() ? std::vector<double>{0.0} : faces;
-  for (const double level : levels) {
-    for (int corner = 0; corner <= (1 << D); ++corner) {
-      std::array<double, D> p{};
-      for (int a = 0; a < D; ++a)
-        p[a] = corner == (1 << D) ? 0.5 * (box.lo[a] + box.hi[a]) : ((corner >> a) & 1 ? box.hi[a] : box.lo[a]);
-      if (fixed_axis >= 0) p[fixed_axis] = level;
-      gradient_.evaluate(p.data());
-      samples.push_back(gradient_.result().gradient());
-    }
   }
-  int best_axis = -1;
-  double best = 0.0;
-  for (int a = 0; a < D; ++a) {
-    if (a == fixed_axis) continue;
-    double low = 1e300, high = -1e300;
-    for (const auto& g : samples) {
-      low = std::min(low, g[a]);
-      high = std::max(high, g[a]);
-    }
-    const double m = margin(Interval(low, high));
-    if (m > best) {
-      best = m;
-      best_axis = a;
-    }
-  }
-  return best_axis;
-}
 
-template <int D>
-void CellQuadrature<D>::line_rule(std::array<double, D> p, int e, const Box<D>& box, double base_weight,
-                                  Target target) {
-  auto along = [&](double s) {
-    p[e] = s;
-    return omega_at(p);
-  };
-  const double a = box.lo[e], b = box.hi[e];
-  std::vector<double> roots;
-  append_roots(along, a, b, roots, 2);
-  std::sort(roots.begin(), roots.end());
-  // A boundary on the cell's face (a domain edge on the grid's lattice, a
-  // common case) gives omega = 0 exactly at an end, not a sign change. The
-  // cell whose adjacent segment is inside takes the surface point, so the
-  // neighbour across the face does not take it twice.
-  const double first_end = roots.empty() ? b : roots.front(), last_start = roots.empty() ? a : roots.back();
-  if (along(b) == 0.0 && along(0.5 * (last_start + b)) > 0) roots.push_back(b);
-  if (along(a) == 0.0 && along(0.5 * (a + first_end)) > 0) roots.insert(roots.begin(), a);
-  if (target.surface) {
+  /// Surface points of the single piece on one line of the volume rule:
+  /// its roots, and its zeros at the line's ends when the domain's side of
+  /// that end lies in the box (so that a face on a cell face is counted
+  /// once). `positive`: the domain is where the piece is positive (else
+  /// the formula is its negation).
+  void line_surface(Point p, int e, double a, double b, std::vector<double> roots, std::uint32_t piece, bool positive,
+                    double w) {
+    p[e] = b;
+    const bool at_b = piece_value(piece, p) == 0.0;
+    p[e] = a;
+    const bool at_a = piece_value(piece, p) == 0.0;
+    const double first_end = roots.empty() ? b : roots.front(), last_start = roots.empty() ? a : roots.back();
+    auto inside_at = [&](double s) {
+      p[e] = s;
+      const double v = piece_value(piece, p);
+      return positive ? v > 0 : v < 0;
+    };
+    if (at_b && inside_at(0.5 * (last_start + b))) roots.push_back(b);
+    if (at_a && inside_at(0.5 * (a + first_end))) roots.insert(roots.begin(), a);
     for (const double root : roots) {
       p[e] = root;
-      gradient_.evaluate(p.data());
-      const auto g = gradient_.result().gradient();
-      double norm = 0.0;
-      for (int k = 0; k < D; ++k) norm += g[k] * g[k];
-      norm = std::sqrt(norm);
-      if (!(norm > 0) || g[e] == 0.0) continue;
-      SurfacePoint<D> s{};
-      s.x = p;
-      s.weight = base_weight * norm / std::abs(g[e]);
-      for (int k = 0; k < D; ++k) s.normal[k] = -g[k] / norm;
-      target.surface->push_back(s);
+      Point g{};
+      piece_gradient(piece, p, g);
+      emit_surface(p, g, e, w, !positive);
     }
   }
-  const GaussRule& rule = gauss_legendre(options_.points);
-  roots.push_back(b);
-  double start = a;
-  for (const double end : roots) {
-    const double length = end - start;
-    if (length > 0 && along(0.5 * (start + end)) >= 0) {
-      for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
-        p[e] = start + length * rule.nodes[k];
-        target.volume->push_back({p, base_weight * length * rule.weights[k]});
+
+  /// A surface point at p on a piece of gradient g (towards the piece's
+  /// inside), reached from the base along e with base weight w; `flip`
+  /// when the domain lies on the piece's outside.
+  void emit_surface(const Point& p, const Point& g, int e, double w, bool flip) {
+    double norm = 0.0;
+    for (int k = 0; k < D; ++k) norm += g[k] * g[k];
+    norm = std::sqrt(norm);
+    if (!(norm > 0) || g[e] == 0.0) return;
+    SurfacePoint<D> s{};
+    s.x = p;
+    s.weight = w * norm / std::abs(g[e]);
+    for (int k = 0; k < D; ++k) s.normal[k] = (flip ? g[k] : -g[k]) / norm;
+    surface_->push_back(s);
+  }
+
+  /// The surface of piece `piece` where the formula changes across it,
+  /// in the piece's own height direction.
+  void surface_rule(const Box<D>& box, const BooleanFormula& formula, std::uint32_t piece, int depth) {
+    const Restricted r = restrict_to(box, formula);
+    if (!std::binary_search(r.pieces.begin(), r.pieces.end(), piece)) return;
+    levels_.clear();
+    Level own;
+    own.piece = piece;
+    const int level = add_level(own);
+    const unsigned all = (1u << D) - 1;
+    int e = steepest_axis(shape(level, box, all, false));
+    if (e < 0 && depth > 0) e = steepest_axis(shape(level, box, all, true));
+    if (e < 0) {
+      if (depth >= options_.max_depth) {
+        ++counts_.unresolved_surface;
+        return;
       }
+      for (int child = 0; child < (1 << D); ++child) surface_rule(half(box, child, all), r.formula, piece, depth + 1);
+      return;
     }
-    start = end;
+    std::vector<int> levels;
+    const int family = next_family_++;
+    for (const double face : {box.lo[e], box.hi[e]}) levels.push_back(restrict_level(level, e, face, family));
+    for (const std::uint32_t other : r.pieces) {
+      if (other == piece) continue;
+      Level l;
+      l.piece = other;
+      levels.push_back(crossing_level(add_level(l), level, e, box.lo[e], box.hi[e]));
+    }
+    const double step = 1e-7 * scale_;
+    const unsigned base = all & ~(1u << e);
+    smooth_rule(box, base, levels, 0, [&](const Point& x, double w) {
+      Point p = x;
+      const double a = box.lo[e], b = box.hi[e];
+      auto along = [&](double t) {
+        p[e] = t;
+        return piece_value(piece, p);
+      };
+      std::vector<double> roots;
+      append_roots(along, a, b, roots, 2);
+      if (along(a) == 0.0) roots.insert(roots.begin(), a);
+      if (along(b) == 0.0) roots.push_back(b);
+      for (const double root : roots) {
+        p[e] = root;
+        Point g{};
+        piece_gradient(piece, p, g);
+        double norm = 0.0;
+        for (int k = 0; k < D; ++k) norm += g[k] * g[k];
+        norm = std::sqrt(norm);
+        if (!(norm > 0)) continue;
+        // Does the domain change across the piece here? Read the formula a
+        // step off the surface on either side.
+        Point plus = p, minus = p;
+        for (int k = 0; k < D; ++k) {
+          plus[k] += step * g[k] / norm;
+          minus[k] -= step * g[k] / norm;
+        }
+        const bool in_plus = holds(r.formula, r.pieces, plus), in_minus = holds(r.formula, r.pieces, minus);
+        if (in_plus == in_minus) continue;
+        // At an end of the line, only the box on the domain's side counts it.
+        const double inward_e = in_plus ? g[e] : -g[e];
+        if ((root == a && !(inward_e > 0)) || (root == b && !(inward_e < 0))) continue;
+        emit_surface(p, g, e, w, !in_plus);
+      }
+    });
   }
+
+  /// Integrates over the free axes of `box`, calling emit(x, w) with the
+  /// free coordinates of x set, so that what emit integrates is smooth
+  /// between the zero sets of `levels`.
+  void smooth_rule(const Box<D>& box, unsigned free, const std::vector<int>& levels, int depth, const Emit& emit) {
+    std::vector<int> kept;
+    std::vector<Shape> shapes;
+    for (const int l : levels) {
+      const Shape s = shape(l, box, free, false);
+      if (!s.may_vanish || s.vanishes_everywhere) continue;
+      kept.push_back(l);
+      shapes.push_back(s);
+    }
+    const int m = std::popcount(free);
+    if (m == 1) {
+      const int t = std::countr_zero(free);
+      std::vector<double> breaks;
+      Point p{};
+      for (const int l : kept)
+        append_roots(
+            [&](double s) {
+              p[t] = s;
+              return level_value(l, p, nullptr);
+            },
+            box.lo[t], box.hi[t], breaks, 4);
+      gauss_on_pieces(box.lo[t], box.hi[t], breaks, options_.points, [&](double s, double w) {
+        p[t] = s;
+        emit(p, w);
+      });
+      return;
+    }
+    if (kept.empty()) return tensor_emit(box, free, emit);
+    int s = height_direction(shapes, free);
+    if (s < 0 && depth > 0) {
+      shapes.clear();
+      for (const int l : kept) shapes.push_back(shape(l, box, free, true));
+      s = height_direction(shapes, free);
+    }
+    if (s < 0) {
+      if (depth >= options_.max_depth) return tensor_emit(box, free, emit);
+      for (int child = 0; child < (1 << m); ++child) smooth_rule(half(box, child, free), free, kept, depth + 1, emit);
+      return;
+    }
+    // One dimension down: the kept levels on the two faces across s, and
+    // where two of them cross.
+    std::vector<int> sub;
+    std::vector<int> monotone;
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      if (shapes[k].independent & (1u << s)) {
+        sub.push_back(restrict_level(kept[k], s, box.lo[s], -1));
+        continue;
+      }
+      monotone.push_back(kept[k]);
+      const int family = next_family_++;
+      for (const double face : {box.lo[s], box.hi[s]}) sub.push_back(restrict_level(kept[k], s, face, family));
+    }
+    for (std::size_t i = 0; i < monotone.size(); ++i)
+      for (std::size_t j = i + 1; j < monotone.size(); ++j) {
+        const int fi = levels_[static_cast<std::size_t>(monotone[i])].family;
+        if (fi >= 0 && fi == levels_[static_cast<std::size_t>(monotone[j])].family) continue;
+        sub.push_back(crossing_level(monotone[i], monotone[j], s, box.lo[s], box.hi[s]));
+      }
+    smooth_rule(box, free & ~(1u << s), sub, depth, [&](const Point& x, double w) {
+      Point p = x;
+      std::vector<double> breaks;
+      for (const int l : monotone)
+        append_roots(
+            [&](double t) {
+              p[s] = t;
+              return level_value(l, p, nullptr);
+            },
+            box.lo[s], box.hi[s], breaks, 2);
+      gauss_on_pieces(box.lo[s], box.hi[s], breaks, options_.points, [&](double t, double ws) {
+        p[s] = t;
+        emit(p, w * ws);
+      });
+    });
+  }
+
+  /// Tensor Gauss points over the free axes.
+  void tensor_emit(const Box<D>& box, unsigned free, const Emit& emit) {
+    const GaussRule& rule = gauss_legendre(options_.points);
+    const int q = options_.points, m = std::popcount(free);
+    int total = 1;
+    for (int k = 0; k < m; ++k) total *= q;
+    for (int k = 0; k < total; ++k) {
+      Point p{};
+      double w = 1.0;
+      int rest = k;
+      for (int a = 0; a < D; ++a) {
+        if (!(free & (1u << a))) continue;
+        const auto n = static_cast<std::size_t>(rest % q);
+        rest /= q;
+        const double width = box.hi[a] - box.lo[a];
+        p[a] = box.lo[a] + width * rule.nodes[n];
+        w *= width * rule.weights[n];
+      }
+      emit(p, w);
+    }
+  }
+
+  const DomainPieces& pieces_;
+  QuadratureOptions options_;
+  PieceIntervals intervals_;
+  std::vector<std::unique_ptr<Evaluator<double>>> value_;
+  std::vector<std::unique_ptr<Evaluator<Interval>>> enclosure_;
+  std::vector<std::unique_ptr<Evaluator<Tuple<D, 1>>>> gradient_;
+  std::vector<char> inside_;  // per piece, scratch for formulas
+  std::vector<Level> levels_;
+  int next_family_ = 0;
+  QuadratureCounts counts_;
+  double scale_ = 1.0;
+  std::vector<VolumePoint<D>>* volume_ = nullptr;
+  std::vector<SurfacePoint<D>>* surface_ = nullptr;
+};
+
+template <int D>
+CellQuadrature<D>::CellQuadrature(const DomainPieces& pieces, QuadratureOptions options)
+    : rule_(std::make_unique<Rule>(pieces, options)) {}
+
+template <int D>
+CellQuadrature<D>::~CellQuadrature() = default;
+
+template <int D>
+CellQuadrature<D>::CellQuadrature(CellQuadrature&&) noexcept = default;
+
+template <int D>
+const QuadratureCounts& CellQuadrature<D>::counts() const {
+  return rule_->counts();
+}
+
+template <int D>
+CellDomain CellQuadrature<D>::classify(const Box<D>& box) {
+  return rule_->classify(box);
+}
+
+template <int D>
+void CellQuadrature<D>::append_rule(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
+                                    std::vector<SurfacePoint<D>>* surface) {
+  rule_->append(box, cell, volume, surface);
 }
 
 template class CellQuadrature<2>;

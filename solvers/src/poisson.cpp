@@ -56,21 +56,69 @@ Box<D> cell_box(const BackgroundGrid<D>& grid, std::size_t linear) {
   return box;
 }
 
+/// The centre of the inside cell farthest (in cells) from every cell that
+/// is not inside: a point well inside the domain, where the selectors'
+/// signs are read (boundary_structure.hpp).
+template <int D>
+std::array<double, 3> deepest_inside_centre(const BackgroundGrid<D>& grid, const std::vector<CellKind>& kinds) {
+  // Multi-source breadth-first search from the cells that are not inside,
+  // over the 3^D neighbourhood.
+  const std::size_t count = grid.cell_count();
+  std::vector<int> distance(count, -1);
+  std::vector<std::size_t> queue;
+  for (std::size_t c = 0; c < count; ++c) {
+    if (kinds[c] == CellKind::Inside) continue;
+    distance[c] = 0;
+    queue.push_back(c);
+  }
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const auto i = grid.cell_index(queue[head]);
+    for (int offset = 0; offset < (D == 2 ? 9 : 27); ++offset) {
+      auto j = i;
+      int rest = offset;
+      bool in_grid = true;
+      for (int a = 0; a < D; ++a) {
+        j[a] += rest % 3 - 1;
+        rest /= 3;
+        in_grid = in_grid && j[a] >= 0 && j[a] < grid.cells[a];
+      }
+      if (!in_grid) continue;
+      std::size_t linear = 0;
+      for (int a = D - 1; a >= 0; --a)
+        linear = linear * static_cast<std::size_t>(grid.cells[a]) + static_cast<std::size_t>(j[a]);
+      const int next = distance[queue[head]] + 1;
+      if (distance[linear] >= 0 && distance[linear] <= next) continue;
+      distance[linear] = next;
+      queue.push_back(linear);
+    }
+  }
+  std::size_t best = 0;
+  for (std::size_t c = 0; c < count; ++c)
+    if (kinds[c] == CellKind::Inside && (kinds[best] != CellKind::Inside || distance[c] > distance[best])) best = c;
+  std::array<double, 3> centre{};
+  const auto i = grid.cell_index(best);
+  for (int a = 0; a < D; ++a) centre[a] = grid.lo[a] + (i[a] + 0.5) * grid.h;
+  return centre;
+}
+
 /// Everything the assembly of one cell reads, compiled once.
 struct AssemblyTapes {
   Tape structure;     // omega_D, g~
   Tape coefficients;  // k, f
-  Tape surface;       // selectors..., then beta, flux per named part, then beta, flux of the rest
+  Tape surface;       // selectors..., then beta, flux, g per named part, then beta, flux, g of the rest
 };
 
-/// Which boundary condition holds at a surface point: the part whose
-/// selector is nearest zero, or the rest.
+/// Which boundary condition holds at a surface point (the part whose
+/// selector is nearest zero, or the rest) and how it enters: by the
+/// boundary integrals of a Neumann or Robin part, by Nitsche's terms of a
+/// weak Dirichlet part, or not at all (a Dirichlet part in the trial functions).
 struct SurfaceData {
-  bool weak = false;
-  double beta = 0.0, flux = 0.0;
+  enum class Role { None, NeumannRobin, Nitsche } role = Role::None;
+  double beta = 0.0, flux = 0.0, value = 0.0;
 };
 
-SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>& eval, double tolerance) {
+SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>& eval, double tolerance,
+                         bool weak_dirichlet) {
   const std::size_t parts = problem.parts.size();
   std::size_t nearest = parts;
   double distance = tolerance;
@@ -82,8 +130,52 @@ SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>&
     }
   }
   const BoundaryPart& part = nearest < parts ? problem.parts[nearest] : problem.rest;
-  if (part.kind == BoundaryKind::Dirichlet) return {};
-  return {true, eval.result(parts + 2 * nearest), eval.result(parts + 2 * nearest + 1)};
+  const std::size_t data = parts + 3 * nearest;
+  if (part.kind != BoundaryKind::Dirichlet)
+    return {SurfaceData::Role::NeumannRobin, eval.result(data), eval.result(data + 1), 0.0};
+  if (weak_dirichlet) return {SurfaceData::Role::Nitsche, 0.0, 0.0, eval.result(data + 2)};
+  return {};
+}
+
+/// The trial functions of Nitsche's method: the WEB B-splines themselves.
+TrialStructure weak_dirichlet_trial() {
+  TrialStructure t;
+  t.scale = 1.0;
+  t.offset = 0.0;
+  t.robin_weight = 0.0;
+  t.robin_field = 0.0;
+  return t;
+}
+
+/// The named parts, then the rest: the order of the surface tape's data.
+std::vector<const BoundaryPart*> all_parts(const PoissonProblem& problem) {
+  std::vector<const BoundaryPart*> parts;
+  for (const BoundaryPart& part : problem.parts) parts.push_back(&part);
+  parts.push_back(&problem.rest);
+  return parts;
+}
+
+/// Nitsche's terms of a weak Dirichlet condition u = g at the surface
+/// point s (outward normal n, weight w), for the trial functions B_j:
+///
+///     a_jl += w [ sigma k B_j B_l - k (dn B_j B_l + B_j dn B_l) ]
+///     f_j  += w [ sigma k g B_j - k g dn B_j ]
+///
+/// (the symmetric method; sigma = penalty / h). Lower triangle of a_jl.
+template <int D>
+void add_nitsche_terms(const BackgroundGrid<D>& grid, const std::array<int, D>& cell, const SurfacePoint<D>& s,
+                       double conductivity, double g, double sigma, LocalSplines<D>& local, Eigen::MatrixXd& stiffness,
+                       Eigen::VectorXd& rhs) {
+  local.evaluate(grid, cell, s.x.data());
+  const int count = grid.local_count();
+  const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), count);
+  Eigen::VectorXd dn = Eigen::VectorXd::Zero(count);
+  for (int a = 0; a < D; ++a) dn += s.normal[a] * Eigen::Map<const Eigen::VectorXd>(local.gradient[a].data(), count);
+  const double wk = s.weight * conductivity;
+  rhs.head(count) += (wk * g) * (sigma * values - dn);
+  for (int j = 0; j < count; ++j)
+    for (int l = 0; l <= j; ++l)
+      stiffness(j, l) += wk * (sigma * values[j] * values[l] - dn[j] * values[l] - values[j] * dn[l]);
 }
 
 template <int D>
@@ -277,6 +369,17 @@ double robin_band_width(double fraction, double cell_width, double longest_side)
   return fraction * longest_side * std::pow(cell_width / longest_side, 2.0 / 3.0);
 }
 
+double nitsche_penalty(double requested, int degree) {
+  return requested > 0.0 ? requested : kNitschePenaltyFactor * (degree + 1) * (degree + 1);
+}
+
+DirichletRoute parse_dirichlet_route(const std::string& text) {
+  if (text == "auto") return DirichletRoute::Automatic;
+  if (text == "weak") return DirichletRoute::Weak;
+  if (text == "structure") return DirichletRoute::Structure;
+  throw std::invalid_argument("expected auto, weak or structure, not '" + text + "'");
+}
+
 double automatic_cg_tolerance(double cell_width, double longest_side, int degree) {
   const double tolerance = std::pow(cell_width / longest_side, degree + 3);
   return std::min(std::max(tolerance, 1e-12), 1e-6);
@@ -354,8 +457,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   StageTimer timer(report);
   const int n = options.degree;
 
-  // Field: compile the domain for values, enclosures and gradients.
-  const DomainTapes domain_tapes(problem.domain, D);
+  // Field: the domain's pieces and their Boolean formula, compiled.
+  const DomainPieces domain_pieces(problem.domain, D);
   timer.lap(&StageSeconds::field);
 
   // Classification of the background cells by interval arithmetic.
@@ -376,38 +479,21 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
   QuadratureOptions quadrature{inside_points + 1, inside_points, options.max_subdivision};
   const std::size_t cell_count = grid.cell_count();
+  const std::vector<CellDomain> cells = classify_cells<D>(domain_pieces, grid);
   std::vector<CellKind> kinds(cell_count);
-#pragma omp parallel
-  {
-    CellQuadrature<D> rule(domain_tapes, quadrature);
-#pragma omp for schedule(dynamic, 256)
-    for (std::size_t c = 0; c < cell_count; ++c) kinds[c] = rule.classify(cell_box(grid, c));
-  }
   std::vector<std::size_t> candidates;
-  std::array<double, 3> interior{};
-  double best_omega = -1.0;
-  {
-    Evaluator<double> eval(domain_tapes.value);
-    for (std::size_t c = 0; c < cell_count; ++c) {
-      if (kinds[c] == CellKind::Outside) continue;
-      candidates.push_back(c);
-      if (kinds[c] != CellKind::Inside) continue;
-      ++report.cells_inside;
-      const Box<D> box = cell_box(grid, c);
-      std::array<double, 3> centre{};
-      for (int a = 0; a < D; ++a) centre[a] = 0.5 * (box.lo[a] + box.hi[a]);
-      const double w = eval.at(centre);
-      if (w > best_omega) {
-        best_omega = w;
-        interior = centre;
-      }
-    }
+  for (std::size_t c = 0; c < cell_count; ++c) {
+    kinds[c] = cells[c].kind;
+    if (kinds[c] == CellKind::Outside) continue;
+    candidates.push_back(c);
+    if (kinds[c] == CellKind::Inside) ++report.cells_inside;
   }
   report.cells = cell_count;
   report.cells_cut = candidates.size() - report.cells_inside;
   if (candidates.empty()) throw std::runtime_error("the domain is empty: omega < 0 on every grid cell");
   if (report.cells_inside == 0)
     throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (use more cells)");
+  const std::array<double, 3> interior = deepest_inside_centre(grid, kinds);
   timer.lap(&StageSeconds::classification);
 
   const BoundaryStructure structure = boundary_structure(problem, interior);
@@ -415,14 +501,31 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   if (structured && n < 2)
     throw std::invalid_argument(
         "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
+  DirichletRoute route = options.dirichlet;
+  // Nitsche's method leans on the WEB extension for its stability (plain
+  // B-splines with slivers of support need no penalty bound); the Robin
+  // structure is built on the Dirichlet structure.
+  if (route == DirichletRoute::Automatic)
+    route = structured || options.basis == BasisKind::Weighted ? DirichletRoute::Structure : DirichletRoute::Weak;
+  if (route == DirichletRoute::Weak && structured)
+    throw std::invalid_argument(
+        "the Robin structure is built on the Dirichlet structure: impose Dirichlet conditions by the structure too "
+        "(--dirichlet structure), or Neumann and Robin conditions weakly");
+  bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet;
+  for (const BoundaryPart& part : problem.parts) has_dirichlet = has_dirichlet || part.kind == BoundaryKind::Dirichlet;
+  const bool weak_dirichlet = route == DirichletRoute::Weak && has_dirichlet;
+  report.dirichlet_route = route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
+  if (weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
+  const bool needs_surface = structure.has_weak_parts || weak_dirichlet;
   double longest = 0.0;
   for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
   if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest);
   const TrialStructure trial = structured
                                    ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
-                                   : dirichlet_trial(structure);
+                               : weak_dirichlet ? weak_dirichlet_trial()
+                                                : dirichlet_trial(structure);
   const bool second = trial.second_function();
-  if (D == 3 && !structure.has_weak_parts) quadrature.points = inside_points;
+  if (D == 3 && !needs_surface) quadrature.points = inside_points;
   // Cells that may meet the structure's band (omega_R < band over the cell,
   // by intervals) hold its cut-offs, polynomials of degree power + 2 or so in
   // omega_R times the splines, and their C^(power - 1) edge: a finer rule
@@ -448,12 +551,18 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   std::vector<std::vector<SurfacePoint<D>>> surface(candidates.size());
 #pragma omp parallel
   {
-    CellQuadrature<D> rule(domain_tapes, quadrature), band_rule(domain_tapes, band_quadrature);
-#pragma omp for schedule(dynamic, 16)
+    CellQuadrature<D> rule(domain_pieces, quadrature), band_rule(domain_pieces, band_quadrature);
+#pragma omp for schedule(dynamic, 16) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::size_t c = candidates[k];
       (in_band[k] ? band_rule : rule)
-          .append_rule(cell_box(grid, c), kinds[c], volume[k], structure.has_weak_parts ? &surface[k] : nullptr);
+          .append_rule(cell_box(grid, c), cells[c], volume[k], needs_surface ? &surface[k] : nullptr);
+    }
+#pragma omp critical
+    for (const QuadratureCounts* counts : {&rule.counts(), &band_rule.counts()}) {
+      report.masked_boxes += counts->masked_boxes;
+      report.masked_points += counts->masked_points;
+      report.unresolved_surface_boxes += counts->unresolved_surface;
     }
   }
   std::vector<char> active(cell_count, 0), inside(cell_count, 0);
@@ -466,6 +575,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     if (!active[candidates[k]]) volume[k].clear();
     inside[candidates[k]] = kinds[candidates[k]] == CellKind::Inside ? 1 : 0;
     report.volume_points += volume[k].size();
+    if (kinds[candidates[k]] == CellKind::Cut) report.cut_volume_points += volume[k].size();
     report.surface_points += surface[k].size();
   }
   if (options.keep_quadrature) {
@@ -490,13 +600,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   report.outer_splines = basis.outer_count;
   report.unknowns = basis.unknowns();
 
+  // Dirichlet data on the boundary: the caller's extension when given (its
+  // boundary values are the data), else each part's value.
   std::vector<Expr> surface_roots = structure.selectors;
-  for (const BoundaryPart& part : problem.parts) {
-    surface_roots.push_back(part.beta);
-    surface_roots.push_back(part.flux);
+  for (const BoundaryPart* part : all_parts(problem)) {
+    surface_roots.push_back(part->beta);
+    surface_roots.push_back(part->flux);
+    surface_roots.push_back(problem.dirichlet_extension ? *problem.dirichlet_extension : part->value);
   }
-  surface_roots.push_back(problem.rest.beta);
-  surface_roots.push_back(problem.rest.flux);
   std::vector<Expr> trial_roots{trial.scale, trial.offset};
   for (const Expr& t : trial.transport) trial_roots.push_back(t);
   if (second) trial_roots.push_back(trial.second_weight);
@@ -538,6 +649,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   }
   for (int a = D - 1; a >= 0; --a) stencil_centre = stencil_centre * (2 * n + 1) + n;
   const double selector_tolerance = 1e-6 * grid.h;
+  const double nitsche_weight = weak_dirichlet ? *report.nitsche_penalty / grid.h : 0.0;
   // Inside cells all carry the same tensor Gauss rule relative to the
   // cell, so their local B-splines and gradients at the rule's points are
   // the same too: tabulated once (point p, spline k at p * local_count + k).
@@ -683,8 +795,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       }
       for (const auto& s : surface[k]) {
         surface_eval.evaluate(s.x.data());
-        const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance);
-        if (!data.weak) continue;
+        const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance, weak_dirichlet);
+        if (data.role == SurfaceData::Role::None) continue;
+        if (data.role == SurfaceData::Role::Nitsche) {
+          coefficient_eval.evaluate(s.x.data());
+          add_nitsche_terms<D>(grid, cell, s, coefficient_eval.result(0), data.value, nitsche_weight, local, stiffness,
+                               rhs);
+          continue;
+        }
         structure_eval.evaluate(s.x.data());
         const double w = structure_eval.result(0).value(), g = structure_eval.result(1).value();
         local.evaluate(grid, cell, s.x.data());

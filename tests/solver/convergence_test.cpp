@@ -45,10 +45,12 @@ TEST(PoissonConvergence, DiskCubic) {
 }
 
 TEST(PoissonConvergence, DiskCubicWeightedBasisAgreesWithWeb) {
-  // Same space up to the outer B-splines: errors of the same size.
+  // Same space up to the outer B-splines: errors of the same size (both
+  // by the Dirichlet structure, the weighted basis' route).
   SolverOptions options;
   options.degree = 3;
   options.cell_width = 0.125;
+  options.dirichlet = DirichletRoute::Structure;
   options.basis = BasisKind::Weighted;
   const auto weighted = solve_poisson<2>(disk_problem(), options).report;
   options.basis = BasisKind::Web;
@@ -113,8 +115,8 @@ TEST(PoissonConvergence, UnitBallQuadratic) {
 
 TEST(PoissonPatchTest, SplineSpaceSolutionIsReproduced) {
   // u = omega p + g with p in the spline space (degree <= n in each
-  // variable) and g linear: both bases must hold it, so the only error left
-  // is quadrature's.
+  // variable) and g linear: both bases must hold it in the Dirichlet
+  // structure, so the only error left is quadrature's.
   const Expr omega = ball({0.037, -0.021, 0}, 0.9, 2);
   const Expr x = Expr::x(), y = Expr::y();
   const Expr g = 0.5 + x + 2.0 * y;
@@ -125,6 +127,7 @@ TEST(PoissonPatchTest, SplineSpaceSolutionIsReproduced) {
     options.degree = 2;
     options.cell_width = 0.2;
     options.basis = basis;
+    options.dirichlet = DirichletRoute::Structure;
     options.quadrature_points = 6;
     options.cg_tolerance = 1e-12;  // no discretization error: solve to round-off
     const auto report = solve_poisson<2>(problem, options).report;
@@ -134,6 +137,7 @@ TEST(PoissonPatchTest, SplineSpaceSolutionIsReproduced) {
   // Degree 1 cannot hold x y^2: the same test must then fail to reproduce.
   SolverOptions options;
   options.degree = 1;
+  options.dirichlet = DirichletRoute::Structure;
   options.cell_width = 0.2;
   EXPECT_GT(*solve_poisson<2>(problem, options).report.l2_error, 1e-6);
 }
@@ -182,6 +186,7 @@ TEST(PoissonPatchTest, NeumannEdgeOnTheGridLattice) {
   options.degree = 2;
   options.cell_width = 0.1;
   options.estimate_condition = false;
+  options.dirichlet = DirichletRoute::Structure;  // g~ = u: only the Neumann term's error is left
   const SolveReport report = solve_poisson<2>(problem, options).report;
   std::printf("  h = 0.1 on the lattice: %zu surface points, L2 %.3e\n", report.surface_points, *report.l2_error);
   EXPECT_GT(report.surface_points, 0u);

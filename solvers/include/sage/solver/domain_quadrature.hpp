@@ -1,39 +1,58 @@
 #pragma once
 // Quadrature over an implicit domain {omega >= 0} cut into grid cells.
 //
-// Cells are classified with interval arithmetic: Inside when omega > 0 on
-// the whole box, Outside when omega < 0 on it, Cut otherwise. Inside cells
-// get the tensor Gauss rule. Cut cells get a high-order rule after Saye
-// (SIAM J. Sci. Comput. 37, 2015), for one level set:
+// The domain is read as its Boolean skeleton (boolean_form.hpp): smooth
+// pieces p_1..p_k (halfspaces, balls, normalized primitives, or the whole
+// field when it is not Boolean at its root) and the formula F that their
+// signs obey. A box is Inside when interval arithmetic shows F true over it
+// (every piece's sign that F reads is known there), Outside when it shows F
+// false, Cut otherwise; the pieces left in the box's restricted formula are
+// the few whose zero sets may meet it. Inside cells get the tensor Gauss
+// rule. Cut cells get a rule after Saye (SIAM J. Sci. Comput. 37, 2015,
+// and J. Comput. Phys. 448, 2022, for several level sets):
 //
-//  1. Enclose omega and its gradient on the box. If some partial d omega /
-//     dx_e keeps its sign, omega is monotone along x_e (the "height"
-//     direction): every line parallel to x_e meets the boundary at most
-//     once. Otherwise split the box in 2^D and retry, down to max_depth;
-//     at the bottom use Gauss points masked by the sign of omega.
-//  2. Integrate over the base (the box face orthogonal to e) with Gauss
-//     rules broken at the zeros of omega on the bottom and top faces, so the
-//     inner integral is smooth on every piece. In 3D the base itself is a
-//     2D box cut by two level sets: the same steps one dimension down.
-//  3. Along each base line, find the root of omega (bracketed secant),
-//     and use a Gauss rule on the inside segment.
+//  1. Volume. Find a height direction e in which every active piece is
+//     monotone (interval bounds of its gradient; a piece that does not
+//     depend on x_e at all, a face parallel to e, also qualifies). Every
+//     line parallel to e then meets each piece's zero set at most once.
+//     Integrate over the base (the box face orthogonal to e) with Gauss
+//     rules broken where the line integral is not smooth: where a piece
+//     vanishes on the bottom or top face (its root enters or leaves the
+//     box), where an e-independent piece vanishes, and where two pieces'
+//     roots cross (the projection of their intersection, the zero set of
+//     p_i evaluated on the root of p_j). In 3D the base is a 2D box with
+//     these curves as its level sets: the same steps one dimension down.
+//     Along each base line the pieces' roots split the line, and the
+//     segments where F holds (read at their midpoints) get Gauss rules.
+//     No direction: split the box in 2^D and retry, down to max_depth; at
+//     the bottom, Gauss points masked by the sign of F (counted in
+//     QuadratureCounts::masked_points: a last resort).
+//  2. Surface. Each active piece separately, in its own height direction:
+//     the base broken where its root leaves the box and where the other
+//     pieces vanish on it; on each base line its root is a surface point
+//     when F changes across it there, with weight base_weight |grad p| /
+//     |dp/dx_e| and the outward normal -+grad p / |grad p| of that piece.
+//     So a box's edge gets the two faces' own normals, and each face's
+//     point lies exactly on it.
 //
-// Interval bounds of the derivatives of deep expressions (normalized
-// fields) are often too loose to prove monotonicity; below the top level a
-// direction is then accepted when the derivative keeps its sign at the
-// corners and the centre, and the line rule finds every root it brackets
-// with a few samples, so a line that meets the boundary twice still works.
+// Deep single pieces (normalized fields) have derivative enclosures too
+// loose to prove monotonicity; below the top level a direction is then
+// accepted when the derivative keeps its sign at the corners and the
+// centre, and line roots are found with a few samples, so a line that
+// meets the boundary twice still works.
 //
-// The surface rule on omega = 0 comes with it: the root on each base line
-// is a surface point with weight base_weight |grad omega| / |d omega/dx_e|
-// and outward unit normal -grad omega / |grad omega| (omega >= 0 inside).
+// A boundary on a cell's face (a domain edge on the grid's lattice) gives
+// p = 0 exactly at the end of a line: the cell on the domain's side takes
+// the surface point, so the neighbour does not take it twice.
 //
-// Ownership: DomainTapes compiles omega once and is shared (read-only) by
-// the CellQuadrature objects, one per thread.
+// Ownership: DomainPieces compiles the pieces once and is shared
+// (read-only) by the CellQuadrature objects, one per thread.
 
+#include <sage/boolean_form.hpp>
 #include <sage/evaluator.hpp>
 #include <sage/expression.hpp>
 #include <sage/interval.hpp>
+#include <sage/solver/background_grid.hpp>
 #include <sage/tape.hpp>
 
 #include <array>
@@ -70,42 +89,56 @@ struct QuadratureOptions {
   int max_depth = 4;      // subdivisions of a cut cell searching for a height direction
 };
 
-/// omega and its gradient compiled for the three evaluations the rule needs.
-struct DomainTapes {
-  DomainTapes(const Expr& omega, int dimension);
-  Tape value;      // omega
-  Tape enclosure;  // omega, d omega/dx_0 .. d omega/dx_{D-1}
+/// The domain's pieces and formula, compiled once.
+struct DomainPieces {
+  DomainPieces(const Expr& omega, int dimension);
+  int dimension;
+  BooleanFormula formula;
+  std::vector<Tape> value;      // per piece: p
+  std::vector<Tape> enclosure;  // per piece: p, dp/dx_0 .. dp/dx_{D-1}
+  std::size_t piece_count() const { return value.size(); }
+};
+
+/// What a box holds of the domain: its kind and the formula restricted to
+/// it (Cut boxes only: the pieces whose zero sets may meet the box).
+struct CellDomain {
+  CellKind kind = CellKind::Outside;
+  BooleanFormula formula = BooleanFormula::constant(false);
+};
+
+/// Classifies every cell of `grid`, descending from blocks of cells to
+/// cells so that each box evaluates only the pieces its parent could not
+/// settle (a polygon of thousands of edges costs a few per cell). Runs on
+/// all cores.
+template <int D>
+std::vector<CellDomain> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid);
+
+/// What the rules fell back on, summed over the calls of a CellQuadrature.
+struct QuadratureCounts {
+  std::size_t masked_boxes = 0;        // sub-boxes integrated by sign-masked Gauss points
+  std::size_t masked_points = 0;       // volume points those produced
+  std::size_t unresolved_surface = 0;  // sub-boxes where a piece's surface found no height direction
 };
 
 template <int D>
 class CellQuadrature {
  public:
-  CellQuadrature(const DomainTapes& tapes, QuadratureOptions options);
+  CellQuadrature(const DomainPieces& pieces, QuadratureOptions options);
+  ~CellQuadrature();
+  CellQuadrature(CellQuadrature&&) noexcept;
 
-  CellKind classify(const Box<D>& box);
+  /// The kind of `box` and the formula restricted to it.
+  CellDomain classify(const Box<D>& box);
   /// Appends the rule of the part of `box` inside the domain to `volume`,
-  /// and of omega = 0 in the box to `surface` when it is not null.
-  void append_rule(const Box<D>& box, CellKind kind, std::vector<VolumePoint<D>>& volume,
+  /// and of the boundary in the box to `surface` when it is not null.
+  void append_rule(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
                    std::vector<SurfacePoint<D>>* surface);
 
- private:
-  struct Target {
-    std::vector<VolumePoint<D>>* volume;
-    std::vector<SurfacePoint<D>>* surface;
-  };
-  double omega_at(const std::array<double, D>& p);
-  std::array<Interval, D + 1> enclose(const Box<D>& box);
-  void tensor_rule(const Box<D>& box, bool masked, int points, Target target);
-  void cut_rule(const Box<D>& box, int depth, Target target);
-  void height_rule(const Box<D>& box, int e, Target target);
-  void base_rule_2d(const Box<D>& box, int e, const Box<D>& base, int depth, Target target);
-  int sampled_height(const Box<D>& box, int fixed_axis, const std::vector<double>& faces = {});
-  void line_rule(std::array<double, D> p, int e, const Box<D>& box, double base_weight, Target target);
+  const QuadratureCounts& counts() const;
 
-  QuadratureOptions options_;
-  Evaluator<double> value_;
-  Evaluator<Interval> enclosure_;
-  Evaluator<Tuple<D, 1>> gradient_;
+ private:
+  class Rule;  // the cut-cell rule (domain_quadrature.cpp)
+  std::unique_ptr<Rule> rule_;
 };
 
 }  // namespace sage::solver

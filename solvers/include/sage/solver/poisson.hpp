@@ -57,11 +57,37 @@ namespace sage::solver {
 /// structure with its second function.
 enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient };
 
+/// How Dirichlet conditions are imposed. Weak: Nitsche's method, with the
+/// WEB B-splines as trial functions and the symmetric terms
+///
+///     - <k dn u, v>_D - <u, k dn v>_D + <sigma k u, v>_D   (left)
+///     - <g, k dn v>_D + <sigma k g, v>_D                    (right)
+///
+/// on the Dirichlet parts, sigma = penalty / h. The WEB extension keeps
+/// every B-spline's share of the domain away from slivers, so a penalty of
+/// the inverse-estimate size c (n + 1)^2 / h is stable for any cut.
+/// Structure: u = omega_D Phi + g~ (this header's top). Automatic: weak,
+/// except with the Robin structure, which is built on the Dirichlet
+/// structure, and with plain weighted B-splines (BasisKind::Weighted), whose
+/// slivers of support no penalty can bound.
+enum class DirichletRoute { Automatic, Weak, Structure };
+
+/// Parses "auto", "weak" or "structure"; throws std::invalid_argument.
+DirichletRoute parse_dirichlet_route(const std::string& text);
+
+/// Nitsche's penalty factor c of c (n + 1)^2 (the penalty is that over h).
+constexpr double kNitschePenaltyFactor = 4.0;
+
+/// The penalty used: `requested` when positive, else kNitschePenaltyFactor (degree + 1)^2.
+double nitsche_penalty(double requested, int degree);
+
 struct SolverOptions {
   int degree = 3;            // 1 .. kMaxDegree
   double cell_width = 0.05;  // h of the background grid
   BasisKind basis = BasisKind::Web;
   RobinRoute robin = RobinRoute::Weak;  // Structure needs degree >= 2
+  DirichletRoute dirichlet = DirichletRoute::Automatic;
+  double nitsche_penalty = 0.0;  // sigma h of the weak route; 0: nitsche_penalty(0, degree)
   // Structure route: the multiplier W is cut off at robin_band_width(), robin_band L (h / L)^(2/3) from
   // the structured parts (L the longest side of the box), and the structure gets its second function
   // there; 0 keeps the global W and no second function. robin_band_power: the cut-off's power (>= 2).
@@ -94,10 +120,16 @@ struct SolveReport {
   std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
   std::size_t second_unknowns = 0;  // of the structure's second function (included in unknowns)
   std::size_t volume_points = 0, surface_points = 0;
+  // Fallbacks of the cut-cell rule (domain_quadrature.hpp): sub-boxes filled with sign-masked
+  // Gauss points, the points they gave, and sub-boxes whose surface no rule resolved.
+  std::size_t masked_boxes = 0, masked_points = 0, unresolved_surface_boxes = 0;
+  std::size_t cut_volume_points = 0;  // volume points in cut cells (of volume_points)
   std::string linear_solver;
-  int iterations = 0;                // 1 for a direct solve
-  double cg_tolerance = 0.0;         // relative residual used (CG only)
-  std::optional<double> robin_band;  // structure route: the multiplier's cut-off distance used (0: global W)
+  std::string dirichlet_route;            // "weak (Nitsche)" or "structure"
+  std::optional<double> nitsche_penalty;  // sigma h, when Dirichlet conditions were imposed weakly
+  int iterations = 0;                     // 1 for a direct solve
+  double cg_tolerance = 0.0;              // relative residual used (CG only)
+  std::optional<double> robin_band;       // structure route: the multiplier's cut-off distance used (0: global W)
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
   StageSeconds seconds;                                                // wall clock
