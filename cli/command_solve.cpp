@@ -145,8 +145,10 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
     else
       std::printf("  structure multiplier: the global distance field (--robin-band 0)\n");
   }
-  std::printf("  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface\n", r.cells,
-              r.cells_inside, r.cells_cut, r.volume_points, r.surface_points);
+  std::printf(
+      "  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface; memory estimate %.0f "
+      "MB\n",
+      r.cells, r.cells_inside, r.cells_cut, r.volume_points, r.surface_points, r.memory_estimate_mb);
   if (r.masked_boxes > 0 || r.unresolved_surface_boxes > 0)
     std::printf(
         "  warning: %zu sub-boxes of cut cells had no height direction and were filled with %zu sign-masked points "

@@ -92,8 +92,11 @@ DomainPieces::DomainPieces(const Expr& omega, int dimension_) : dimension(dimens
   value.reserve(form.pieces.size());
   enclosure.reserve(form.pieces.size());
   for (const Expr& piece : form.pieces) {
+    const std::vector<Expr> roots = value_and_gradient(piece, dimension_);
     value.emplace_back(piece, dimension_);
-    enclosure.emplace_back(value_and_gradient(piece, dimension_), dimension_);
+    enclosure.emplace_back(roots, dimension_);
+    planar.push_back(std::all_of(roots.begin() + 1, roots.end(), [](const Expr& g) { return g.is_constant(); }) ? 1
+                                                                                                                : 0);
   }
 }
 
@@ -576,8 +579,14 @@ class CellQuadrature<D>::Rule {
 
   void cut(const Box<D>& box, const BooleanFormula& formula, int depth) {
     const Restricted r = restrict_to(box, formula);
+    // Planar pieces need no more nodes than the integrand's degree asks;
+    // curved ones get options_.curved_extra more (their roots and normals
+    // vary along the base).
+    points_ = options_.points;
+    for (const std::uint32_t p : r.pieces)
+      if (!pieces_.planar[p]) points_ = options_.points + options_.curved_extra;
     if (r.formula.is_constant()) {
-      if (r.formula.constant_value()) tensor(box, options_.points, nullptr);
+      if (r.formula.constant_value()) tensor(box, points_, nullptr);
       return;
     }
     // One piece: one pass gives the volume and the surface (the lines
@@ -602,7 +611,7 @@ class CellQuadrature<D>::Rule {
     if (e < 0) {
       if (depth >= options_.max_depth) {
         ++counts_.masked_boxes;
-        tensor(box, options_.points, &r.formula);
+        tensor(box, points_, &r.formula);
         return;
       }
       for (int child = 0; child < (1 << D); ++child) cut(half(box, child, all), r.formula, depth + 1);
@@ -676,7 +685,7 @@ class CellQuadrature<D>::Rule {
             a, b, roots, 2);
       std::sort(roots.begin(), roots.end());
       if (with_surface && surface_) line_surface(p, e, a, b, roots, r.pieces[0], positive, w);
-      const GaussRule& rule = gauss_legendre(options_.points);
+      const GaussRule& rule = gauss_legendre(points_);
       roots.push_back(b);
       double start = a;
       for (const double end : roots) {
@@ -741,6 +750,7 @@ class CellQuadrature<D>::Rule {
   /// in the piece's own height direction.
   void surface_rule(const Box<D>& box, const BooleanFormula& formula, std::uint32_t piece, int depth) {
     const Restricted r = restrict_to(box, formula);
+    if (depth == 0) points_ = options_.points + (pieces_.planar[piece] ? 0 : options_.curved_extra);
     if (!std::binary_search(r.pieces.begin(), r.pieces.end(), piece)) return;
     levels_.clear();
     Level own;
@@ -828,7 +838,7 @@ class CellQuadrature<D>::Rule {
               return level_value(l, p, nullptr);
             },
             box.lo[t], box.hi[t], breaks, 4);
-      gauss_on_pieces(box.lo[t], box.hi[t], breaks, options_.points, [&](double s, double w) {
+      gauss_on_pieces(box.lo[t], box.hi[t], breaks, points_, [&](double s, double w) {
         p[t] = s;
         emit(p, w);
       });
@@ -875,7 +885,7 @@ class CellQuadrature<D>::Rule {
               return level_value(l, p, nullptr);
             },
             box.lo[s], box.hi[s], breaks, 2);
-      gauss_on_pieces(box.lo[s], box.hi[s], breaks, options_.points, [&](double t, double ws) {
+      gauss_on_pieces(box.lo[s], box.hi[s], breaks, points_, [&](double t, double ws) {
         p[s] = t;
         emit(p, w * ws);
       });
@@ -884,8 +894,8 @@ class CellQuadrature<D>::Rule {
 
   /// Tensor Gauss points over the free axes.
   void tensor_emit(const Box<D>& box, unsigned free, const Emit& emit) {
-    const GaussRule& rule = gauss_legendre(options_.points);
-    const int q = options_.points, m = std::popcount(free);
+    const GaussRule& rule = gauss_legendre(points_);
+    const int q = points_, m = std::popcount(free);
     int total = 1;
     for (int k = 0; k < m; ++k) total *= q;
     for (int k = 0; k < total; ++k) {
@@ -913,6 +923,7 @@ class CellQuadrature<D>::Rule {
   std::vector<char> inside_;  // per piece, scratch for formulas
   std::vector<Level> levels_;
   int next_family_ = 0;
+  int points_ = 1;  // Gauss nodes per direction in the box being cut
   QuadratureCounts counts_;
   double scale_ = 1.0;
   std::vector<VolumePoint<D>>* volume_ = nullptr;

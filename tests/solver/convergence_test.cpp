@@ -267,5 +267,30 @@ TEST(PoissonProblemErrors, TooCoarseAndEmptyDomains) {
   EXPECT_THROW(solve_poisson<2>(problem, options), std::runtime_error);
 }
 
+TEST(PoissonProblemErrors, TooLargeForMemoryIsRefusedUpFront) {
+  // The estimate comes from the classified grid, before any quadrature
+  // point or matrix exists; the message gives the figures.
+  SolverOptions options;
+  options.cell_width = 0.02;
+  options.estimate_condition = false;
+  const SolveReport fits = solve_poisson<2>(disk_problem(), options).report;
+  EXPECT_GT(fits.memory_estimate_mb, 1.0);
+  EXPECT_LT(fits.memory_estimate_mb, 500.0);
+  options.memory_limit_mb = 0.5 * fits.memory_estimate_mb;
+  try {
+    solve_poisson<2>(disk_problem(), options);
+    ADD_FAILURE() << "not refused";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("too large for this machine"), std::string::npos) << message;
+    EXPECT_NE(message.find("cells inside"), std::string::npos) << message;
+    EXPECT_NE(message.find("B-splines"), std::string::npos) << message;
+  }
+  // A grid whose classification alone would not fit.
+  options.memory_limit_mb = 1.0;
+  options.cell_width = 0.0005;
+  EXPECT_THROW(solve_poisson<2>(disk_problem(), options), std::runtime_error);
+}
+
 }  // namespace
 }  // namespace sage::solver

@@ -87,6 +87,7 @@ struct QuadratureOptions {
   int points = 5;         // Gauss nodes per direction and per piece in cut cells
   int inside_points = 0;  // per direction in inside cells (0: same as points)
   int max_depth = 4;      // subdivisions of a cut cell searching for a height direction
+  int curved_extra = 0;   // more nodes in cut boxes where a curved piece is active
 };
 
 /// The domain's pieces and formula, compiled once.
@@ -96,6 +97,7 @@ struct DomainPieces {
   BooleanFormula formula;
   std::vector<Tape> value;      // per piece: p
   std::vector<Tape> enclosure;  // per piece: p, dp/dx_0 .. dp/dx_{D-1}
+  std::vector<char> planar;     // per piece: its gradient is constant (a halfspace)
   std::size_t piece_count() const { return value.size(); }
 };
 

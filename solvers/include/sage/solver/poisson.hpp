@@ -99,6 +99,7 @@ struct SolverOptions {
   int max_subdivision = 4;       // cut-cell subdivisions (domain_quadrature.hpp)
   double cg_tolerance = 0.0;     // relative residual; 0: automatic_cg_tolerance()
   bool keep_quadrature = false;  // fill PoissonSolution::quadrature (to show users the rule)
+  double memory_limit_mb = 0.0;  // refuse solves estimated above it (memory_estimate.hpp); 0: what is available
 };
 
 /// The structure route's cut-off distance (SolverOptions::robin_band).
@@ -132,6 +133,7 @@ struct SolveReport {
   std::optional<double> robin_band;       // structure route: the multiplier's cut-off distance used (0: global W)
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
+  double memory_estimate_mb = 0.0;                                     // memory_estimate.hpp, from the classified grid
   StageSeconds seconds;                                                // wall clock
   StageSeconds cpu_seconds;                                            // process CPU time (all threads)
   /// Relative errors when the problem has an exact solution: L2 and the H1
