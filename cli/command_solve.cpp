@@ -149,6 +149,11 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
       "  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface; memory estimate %.0f "
       "MB\n",
       r.cells, r.cells_inside, r.cells_cut, r.volume_points, r.surface_points, r.memory_estimate_mb);
+  if (r.unbroken_boxes > 0)
+    std::printf(
+        "  mesh: %zu cut cells whose facets bend slightly (or meet many at a vertex) got lines over an unbroken base "
+        "(exact along the lines, not across the bends)\n",
+        r.unbroken_boxes);
   if (r.masked_boxes > 0 || r.unresolved_surface_boxes > 0)
     std::printf(
         "  warning: %zu sub-boxes of cut cells had no height direction and were filled with %zu sign-masked points "

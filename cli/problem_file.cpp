@@ -30,6 +30,7 @@ class Reader {
     solver::PoissonProblem& p = out_.problem;
     p.dimension = out_.model.dimension;
     p.domain = out_.model.field;
+    p.boundary_mesh = out_.model.surface;
     read_bounds(top);
     if (top.contains("conductivity")) p.conductivity = formula(top["conductivity"], "/conductivity");
     if (top.contains("source")) p.source = formula(top["source"], "/source");

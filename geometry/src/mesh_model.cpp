@@ -139,6 +139,14 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
   }
   model.notes.push_back(
       "validation (exact predicates): closed, 2-manifold, orientable, no degenerate faces, no self-intersections");
+  {
+    auto surface = std::make_shared<TriangleSurface>();
+    for (const mesh::Point& p : soup.points) surface->points.push_back({p.x(), p.y(), p.z()});
+    for (const mesh::Triangle& t : soup.triangles)
+      surface->triangles.push_back(
+          {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
+    model.surface = std::move(surface);
+  }
   if (valid.reversed_faces)
     model.notes.push_back("orientation fixed: " + std::to_string(valid.reversed_faces) + " of " +
                           std::to_string(soup.triangles.size()) +

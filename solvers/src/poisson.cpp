@@ -4,6 +4,7 @@
 #include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/memory_estimate.hpp>
+#include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/poisson.hpp>
 #include <sage/solver/tensor_cell_stiffness.hpp>
 
@@ -134,6 +135,65 @@ void check_memory(const BackgroundGrid<D>& grid, const std::vector<std::size_t>&
                              " MB are available (use fewer cells or a lower degree)");
 }
 
+/// The cells of the background grid against the domain, and their
+/// quadrature: from the Boolean pieces of omega (domain_quadrature.hpp), or,
+/// for domains read from meshes, from the triangles (mesh_domain.hpp).
+template <int D>
+class DomainCells {
+ public:
+  /// Compiles the pieces (an implicit domain).
+  explicit DomainCells(const PoissonProblem& problem) : problem_(problem) {
+    if (D == 2 || !problem.boundary_mesh) pieces_.emplace(problem.domain, D);
+  }
+  /// Classifies the cells of `grid`.
+  void classify(const BackgroundGrid<D>& grid) {
+    if constexpr (D == 3) {
+      if (problem_.boundary_mesh) {
+        mesh_ = std::make_shared<MeshDomain>(problem_.boundary_mesh, grid);
+        kinds_ = mesh_->kinds();
+        return;
+      }
+    }
+    cells_ = classify_cells<D>(*pieces_, grid);
+    kinds_.resize(cells_.size());
+    for (std::size_t c = 0; c < cells_.size(); ++c) kinds_[c] = cells_[c].kind;
+  }
+  const std::vector<CellKind>& kinds() const { return kinds_; }
+  std::shared_ptr<const MeshDomain> mesh() const { return mesh_; }
+
+  /// One per thread.
+  class Rule {
+   public:
+    Rule(const DomainCells& cells, QuadratureOptions options) : cells_(cells) {
+      if (cells.mesh_) {
+        mesh_rule_.emplace(*cells.mesh_, options);
+      } else {
+        rule_.emplace(*cells.pieces_, options);
+      }
+    }
+    void append(std::size_t cell, const Box<D>& box, std::vector<VolumePoint<D>>& volume,
+                std::vector<SurfacePoint<D>>* surface) {
+      if constexpr (D == 3) {
+        if (mesh_rule_) return mesh_rule_->append_rule(cell, box, volume, surface);
+      }
+      rule_->append_rule(box, cells_.cells_[cell], volume, surface);
+    }
+    const QuadratureCounts& counts() const { return mesh_rule_ ? mesh_rule_->counts() : rule_->counts(); }
+
+   private:
+    const DomainCells& cells_;
+    std::optional<CellQuadrature<D>> rule_;
+    std::optional<MeshCellQuadrature> mesh_rule_;
+  };
+
+ private:
+  const PoissonProblem& problem_;
+  std::optional<DomainPieces> pieces_;
+  std::vector<CellDomain> cells_;
+  std::shared_ptr<MeshDomain> mesh_;
+  std::vector<CellKind> kinds_;
+};
+
 /// Everything the assembly of one cell reads, compiled once.
 struct AssemblyTapes {
   Tape structure;     // omega_D, g~
@@ -225,22 +285,33 @@ void check_options(const PoissonProblem& problem, const SolverOptions& options) 
     if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
 }
 
+/// Conjugate gradients; with a `budget`, gives up after that many
+/// iterations and returns nothing, else throws when they do not converge.
 template <class Preconditioner>
-Eigen::VectorXd conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
-                                    double tolerance, SolveReport& report) {
+std::optional<Eigen::VectorXd> conjugate_gradients(const Eigen::SparseMatrix<double>& system,
+                                                   const Eigen::VectorXd& right, double tolerance, SolveReport& report,
+                                                   int budget = 0) {
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
   cg.setTolerance(tolerance);
   report.cg_tolerance = tolerance;
-  cg.setMaxIterations(10 * system.rows() + 100);
+  cg.setMaxIterations(budget > 0 ? budget : 10 * system.rows() + 100);
   cg.compute(system);
   if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
   Eigen::VectorXd x = cg.solve(right);
-  report.iterations = static_cast<int>(cg.iterations());
-  if (cg.info() != Eigen::Success)
-    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
-                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
-  return x;
+  report.iterations += static_cast<int>(cg.iterations());
+  if (cg.info() == Eigen::Success) return x;
+  if (budget > 0) return std::nullopt;
+  throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
+                           " iterations (relative residual " + std::to_string(cg.error()) + ")");
 }
+
+/// 3D, automatic: Jacobi's preconditioner is set up for free and enough for
+/// resolved domains (a few hundred iterations), but domains with features
+/// of a few cells' width (a mesh's thin ears) make the WEB system's
+/// condition reach 1e8 after scaling, where Jacobi needs 8,000 iterations
+/// and incomplete Cholesky 23. So Jacobi for this many, then incomplete
+/// Cholesky (from zero: a guess would not keep Jacobi's Krylov space).
+constexpr int kJacobiBudget = 1000;
 
 /// Local B-splines and their gradients at the points of the tensor Gauss
 /// rule of an inside cell, in the order of CellQuadrature::append_rule
@@ -420,12 +491,20 @@ double automatic_cg_tolerance(double cell_width, double longest_side, int degree
 
 template <int D>
 PoissonSolution<D>::Probe::Probe(const PoissonSolution& solution)
-    : solution_(&solution), structure_(*solution.structure), domain_(*solution.domain) {}
+    : solution_(&solution), structure_(*solution.structure) {
+  if (solution.domain) domain_.emplace(*solution.domain);
+}
 
 template <int D>
 double PoissonSolution<D>::Probe::omega(const double* x) {
-  domain_.evaluate(x);
-  return domain_.result();
+  if constexpr (D == 3) {
+    if (solution_->mesh) {
+      std::array<double, 3> p{x[0], x[1], x[2]};
+      return solution_->mesh->signed_distance(p, kMeshDistanceBand * solution_->basis.grid.h);
+    }
+  }
+  domain_->evaluate(x);
+  return domain_->result();
 }
 
 template <int D>
@@ -490,11 +569,13 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   StageTimer timer(report);
   const int n = options.degree;
 
-  // Field: the domain's pieces and their Boolean formula, compiled.
-  const DomainPieces domain_pieces(problem.domain, D);
+  // Field: the domain's pieces and their Boolean formula, compiled (not for
+  // mesh domains, whose cells come from the triangles).
+  DomainCells<D> cells(problem);
   timer.lap(&StageSeconds::field);
 
-  // Classification of the background cells by interval arithmetic.
+  // Classification of the background cells: by the domain's pieces and
+  // interval arithmetic, or by a mesh's triangles.
   std::array<double, D> min{}, max{};
   for (int a = 0; a < D; ++a) {
     min[a] = problem.min[a];
@@ -520,11 +601,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
                              " cells needs about " + std::to_string(static_cast<long long>(classification_mb)) +
                              " MB, " + std::to_string(static_cast<long long>(memory_limit)) +
                              " MB are available (use fewer cells or a lower degree)");
-  const std::vector<CellDomain> cells = classify_cells<D>(domain_pieces, grid);
-  std::vector<CellKind> kinds(cell_count);
+  cells.classify(grid);
+  const std::vector<CellKind>& kinds = cells.kinds();
   std::vector<std::size_t> candidates;
   for (std::size_t c = 0; c < cell_count; ++c) {
-    kinds[c] = cells[c].kind;
     if (kinds[c] == CellKind::Outside) continue;
     candidates.push_back(c);
     if (kinds[c] == CellKind::Inside) ++report.cells_inside;
@@ -592,18 +672,18 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   std::vector<std::vector<SurfacePoint<D>>> surface(candidates.size());
 #pragma omp parallel
   {
-    CellQuadrature<D> rule(domain_pieces, quadrature), band_rule(domain_pieces, band_quadrature);
+    typename DomainCells<D>::Rule rule(cells, quadrature), band_rule(cells, band_quadrature);
 #pragma omp for schedule(dynamic, 16) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const std::size_t c = candidates[k];
-      (in_band[k] ? band_rule : rule)
-          .append_rule(cell_box(grid, c), cells[c], volume[k], needs_surface ? &surface[k] : nullptr);
+      (in_band[k] ? band_rule : rule).append(c, cell_box(grid, c), volume[k], needs_surface ? &surface[k] : nullptr);
     }
 #pragma omp critical
     for (const QuadratureCounts* counts : {&rule.counts(), &band_rule.counts()}) {
       report.masked_boxes += counts->masked_boxes;
       report.masked_points += counts->masked_points;
       report.unresolved_surface_boxes += counts->unresolved_surface;
+      report.unbroken_boxes += counts->unbroken_boxes;
     }
   }
   std::vector<char> active(cell_count, 0), inside(cell_count, 0);
@@ -657,7 +737,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const AssemblyTapes tapes{*structure_tape, Tape(std::vector<Expr>{problem.conductivity, problem.source}, D),
                             Tape(surface_roots, D)};
   solution.structure = structure_tape;
-  solution.domain = std::make_shared<Tape>(problem.domain, D);
+  solution.mesh = cells.mesh();
+  if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 
   int stencil = 1;
   for (int a = 0; a < D; ++a) stencil *= 2 * n + 1;
@@ -990,10 +1071,21 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "sparse LDLT (AMD ordering)";
     report.iterations = 1;
   } else if (kind == LinearSolverKind::ConjugateGradient) {
-    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
+    coefficients = *conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
     report.linear_solver = "conjugate gradients, incomplete Cholesky";
+  } else if (options.linear_solver == LinearSolverKind::Automatic) {
+    report.linear_solver = "conjugate gradients, Jacobi";
+    auto jacobi =
+        conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, kJacobiBudget);
+    if (jacobi) {
+      coefficients = *jacobi;
+    } else {
+      coefficients = *conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
+      report.linear_solver = "conjugate gradients, Jacobi (" + std::to_string(kJacobiBudget) +
+                             " iterations, not converged), then incomplete Cholesky";
+    }
   } else {
-    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report);
+    coefficients = *conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report);
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");

@@ -196,6 +196,68 @@ TEST(CliSolve, BallWithRobinIn3D) {
   EXPECT_GT(fs::file_size(out), 0u);
 }
 
+TEST(CliSolve, MeshDomainByItsTriangles) {
+  // A cube given as 12 triangles (OFF), Dirichlet data that differ from u
+  // inside: cut cells come from the triangles, omega is the signed distance.
+  write_file("solve_cube.off", R"(OFF
+8 12 0
+-1 -1 -1
+1 -1 -1
+1 1 -1
+-1 1 -1
+-1 -1 1
+1 -1 1
+1 1 1
+-1 1 1
+3 0 2 1
+3 0 3 2
+3 4 5 6
+3 4 6 7
+3 0 1 5
+3 0 5 4
+3 2 3 7
+3 2 7 6
+3 1 2 6
+3 1 6 5
+3 3 0 4
+3 3 4 7
+)");
+  const std::string problem = write_file("solve_cube.json", R"json({
+  "domain": "solve_cube.off",
+  "source": "pi^2/4*exp(x)*sin(pi*y/2)*cos(z)",
+  "boundary": { "default": { "type": "dirichlet",
+                             "value": "exp(x)*sin(pi*y/2)*cos(z) + x*y*z + 2*(1-x^2)*(1-y^2)*(1-z^2)" } },
+  "exact": "exp(x)*sin(pi*y/2)*cos(z) + x*y*z"
+})json");
+  const fs::path out = scratch("solve_cube.vtu");
+  const Result r = run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 9");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(printed_l2(r), 0.0) << r.output;
+  EXPECT_LT(printed_l2(r), 2e-3) << r.output;
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(out.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  vtkDataArray* omega = g->GetPointData()->GetArray("omega");
+  ASSERT_TRUE(omega);
+  int checked = 0;
+  for (vtkIdType i = 0; i < g->GetNumberOfPoints(); ++i) {
+    double p[3];
+    g->GetPoint(i, p);
+    // The signed distance to the cube (exact within 2 cells, 0.598 here).
+    double depth = std::min({1 - std::abs(p[0]), 1 - std::abs(p[1]), 1 - std::abs(p[2])});
+    if (depth < 0) {
+      double beyond = 0;
+      for (const double x : p) beyond += std::pow(std::max(std::abs(x) - 1, 0.0), 2);
+      depth = -std::sqrt(beyond);
+    }
+    if (std::abs(depth) < 1e-9 || std::abs(depth) > 0.5) continue;
+    EXPECT_NEAR(omega->GetTuple1(i), depth, 1e-12);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(CliSolve, BadInputNamesFileAndPlace) {
   struct Case {
     std::string boundary, extra, expected;

@@ -5,9 +5,11 @@
 
 #include <sage/expression.hpp>
 #include <sage/rfunction.hpp>
+#include <sage/triangle_surface.hpp>
 
 #include <array>
 #include <map>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -43,6 +45,9 @@ struct Model {
   Expr field;
   std::map<std::string, Expr> named;  // named nodes, by name
   std::vector<PrimitiveInfo> primitives;
+  /// Meshes: the validated, outward-oriented triangles (the solver
+  /// integrates cut cells from them instead of from the field).
+  std::shared_ptr<const TriangleSurface> surface;
   /// Facts for `sage info` and the field summary: projection used,
   /// validation findings and repairs, well-formedness certificate, ...
   std::vector<std::string> notes;

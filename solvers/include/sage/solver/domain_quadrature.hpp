@@ -120,6 +120,7 @@ struct QuadratureCounts {
   std::size_t masked_boxes = 0;        // sub-boxes integrated by sign-masked Gauss points
   std::size_t masked_points = 0;       // volume points those produced
   std::size_t unresolved_surface = 0;  // sub-boxes where a piece's surface found no height direction
+  std::size_t unbroken_boxes = 0;      // mesh sub-boxes with too many planes: base rules without breaks
 };
 
 template <int D>

@@ -34,6 +34,7 @@
 #include <sage/evaluator.hpp>
 #include <sage/solver/domain_quadrature.hpp>
 #include <sage/solver/local_splines.hpp>
+#include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/problem.hpp>
 #include <sage/solver/trial_structure.hpp>
 #include <sage/solver/web_basis.hpp>
@@ -124,6 +125,7 @@ struct SolveReport {
   // Fallbacks of the cut-cell rule (domain_quadrature.hpp): sub-boxes filled with sign-masked
   // Gauss points, the points they gave, and sub-boxes whose surface no rule resolved.
   std::size_t masked_boxes = 0, masked_points = 0, unresolved_surface_boxes = 0;
+  std::size_t unbroken_boxes = 0;     // mesh cells whose base rule has no breaks (mesh_domain.hpp)
   std::size_t cut_volume_points = 0;  // volume points in cut cells (of volume_points)
   std::string linear_solver;
   std::string dirichlet_route;            // "weak (Nitsche)" or "structure"
@@ -142,6 +144,10 @@ struct SolveReport {
   /// Pure Neumann problems: |(f, 1) + <h, 1>| / ((|f|, 1) + <|h|, 1>).
   std::optional<double> neumann_compatibility;
 };
+
+/// How far from a mesh domain's surface its `omega` output is the exact
+/// signed distance, in cell widths (beyond: +-that).
+constexpr double kMeshDistanceBand = 2.0;
 
 /// Largest relative compatibility defect accepted for pure Neumann data.
 constexpr double kNeumannCompatibilityTolerance = 1e-6;
@@ -171,8 +177,11 @@ class PoissonSolution {
   /// Roots: scale, u0, then transport per axis for the structure route,
   /// then V W when it has a second function (trial_structure.hpp).
   std::shared_ptr<const Tape> structure;
-  std::shared_ptr<const Tape> domain;  // omega
-  QuadratureDump quadrature;           // when SolverOptions::keep_quadrature
+  std::shared_ptr<const Tape> domain;  // omega (not for mesh domains)
+  /// Mesh domains: the triangles against the grid; Probe::omega is then the
+  /// signed distance to them, clamped at kMeshDistanceBand cell widths.
+  std::shared_ptr<const MeshDomain> mesh;
+  QuadratureDump quadrature;  // when SolverOptions::keep_quadrature
 
   /// Evaluates u (and grad u) at points; one per thread.
   class Probe {
@@ -186,7 +195,7 @@ class PoissonSolution {
     const PoissonSolution* solution_;
     LocalSplines<D> local_;  // reused: no allocation per point
     Evaluator<Tuple<D, 1>> structure_;
-    Evaluator<double> domain_;
+    std::optional<Evaluator<double>> domain_;
   };
 };
 

@@ -14,8 +14,10 @@
 // inside the domain; the solver orients them.
 
 #include <sage/expression.hpp>
+#include <sage/triangle_surface.hpp>
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +47,11 @@ struct PoissonProblem {
   /// Overrides the Dirichlet extension g~ built from the parts' data (for
   /// tests and callers that have a better extension of the boundary data).
   std::optional<Expr> dirichlet_extension;
+  /// 3D domains read from a mesh: its triangles (the boundary of {domain >=
+  /// 0}). The solver then classifies cells and integrates cut cells from the
+  /// triangles (mesh_domain.hpp); `domain` still serves the Dirichlet
+  /// structure when asked for.
+  std::shared_ptr<const TriangleSurface> boundary_mesh;
 };
 
 /// Rvachev's transfinite interpolation of data g_k given on pieces where
