@@ -6,7 +6,7 @@
 // grid and prints per run: unknowns, CPU seconds per stage (field,
 // classification, quadrature, assembly, solve; process CPU time, so a
 // one-thread run on a busy machine still measures the work), their total,
-// the wall-clock total, the process's peak resident memory so far, and the
+// the wall-clock total, the peak resident memory of the solve, and the
 // relative L2 and H1 errors reached, with the CG iterations and tolerance.
 // The ball's cubic table is repeated at 18 and 19 cells with the former
 // fixed tolerance 1e-12, to compare in the same run.
@@ -33,6 +33,8 @@
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 
+#include "bench_support.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -48,17 +50,10 @@ namespace {
 
 using namespace sage;
 using namespace sage::solver;
+using sage::bench::peak_megabytes;
+using sage::bench::reset_peak;
 
 constexpr double kPi = 3.14159265358979323846;
-
-/// Peak resident set size of this process so far, in MB (Linux).
-double peak_megabytes() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  return 0.0;
-}
 
 /// cg_tolerance 0: the solver's automatic_cg_tolerance().
 template <int D>
@@ -75,6 +70,7 @@ void table(const char* title, const PoissonProblem& problem, int degree, const s
     options.cell_width = 2.0 / n;
     options.estimate_condition = false;
     options.cg_tolerance = cg_tolerance;
+    reset_peak();
     const SolveReport r = solve_poisson<D>(problem, options).report;
     const StageSeconds& s = r.cpu_seconds;
     const double total = s.total() - s.errors;  // error norms are not part of the solve
@@ -146,10 +142,13 @@ void solid_rates(const char* title, const PoissonProblem& problem, int degree, D
     options.cell_width = longest / n;
     options.dirichlet = route;
     options.estimate_condition = false;
+    reset_peak();
     const SolveReport r = solve_poisson<D>(problem, options).report;
     const StageSeconds& s = r.cpu_seconds;
     const double h = options.cell_width;
-    const double cut_points = static_cast<double>(r.cut_volume_points) / static_cast<double>(r.cells_cut);
+    // Cut cells: none when the faces lie on the grid's lattice (their cells are inside).
+    const double cut_points =
+        r.cells_cut > 0 ? static_cast<double>(r.cut_volume_points) / static_cast<double>(r.cells_cut) : 0.0;
     std::printf("%6d %9zu %8.3f %8.3f %8.3f %8.3f %8.3f %8.0f %8zu %9.1f %10.3e %10.3e", n, r.unknowns,
                 s.classification, s.quadrature, s.assembly, s.solve, s.total() - s.errors, peak_megabytes(),
                 r.cells_cut, cut_points, *r.l2_error, *r.h1_error);

@@ -18,7 +18,8 @@ bool is_weak(const BoundaryPart& part) { return part.kind != BoundaryKind::Diric
 
 }  // namespace
 
-BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior) {
+BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior,
+                                     bool dirichlet_structure) {
   BoundaryStructure s;
   for (const BoundaryPart& part : problem.parts) {
     Tape tape(part.selector, problem.dimension);
@@ -46,7 +47,11 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
   bool has_robin = robin(problem.rest);
   for (const BoundaryPart& part : problem.parts) has_robin = has_robin || robin(part);
 
-  if (!rest_weak) {
+  if (!dirichlet_structure) {
+    s.pure_neumann = rest_weak && dirichlet_fields.empty() && !has_robin;
+    s.dirichlet_weight = 1.0;
+    s.dirichlet_extension = 0.0;
+  } else if (!rest_weak) {
     if (s.has_weak_parts)
       throw std::invalid_argument(
           "with Neumann or Robin parts the default boundary condition must not be Dirichlet: name the Dirichlet "
@@ -69,7 +74,7 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     s.dirichlet_weight = weight;
     s.dirichlet_extension = transfinite_interpolation(dirichlet_fields, dirichlet_values);
   }
-  if (problem.dirichlet_extension) s.dirichlet_extension = *problem.dirichlet_extension;
+  if (dirichlet_structure && problem.dirichlet_extension) s.dirichlet_extension = *problem.dirichlet_extension;
   return s;
 }
 

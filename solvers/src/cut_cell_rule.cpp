@@ -640,6 +640,21 @@ class CutCellRule<D>::Impl {
     });
   }
 
+  /// The roots of the levels along `axis` on the line through p, in (lo,
+  /// hi), each found between `samples` steps.
+  std::vector<double> roots_along(const std::vector<int>& levels, Point p, int axis, double lo, double hi,
+                                  int samples) {
+    std::vector<double> roots;
+    for (const int l : levels)
+      append_roots(
+          [&](double t) {
+            p[axis] = t;
+            return level_value(l, p, nullptr);
+          },
+          lo, hi, roots, samples);
+    return roots;
+  }
+
   /// Integrates over the free axes of `box`, calling emit(x, w) with the
   /// free coordinates of x set, so that what emit integrates is smooth
   /// between the zero sets of `levels`.
@@ -655,19 +670,12 @@ class CutCellRule<D>::Impl {
     const int m = std::popcount(free);
     if (m == 1) {
       const int t = std::countr_zero(free);
-      std::vector<double> breaks;
       Point p{};
-      for (const int l : kept)
-        append_roots(
-            [&](double s) {
-              p[t] = s;
-              return level_value(l, p, nullptr);
-            },
-            box.lo[t], box.hi[t], breaks, 4);
-      gauss_on_pieces(box.lo[t], box.hi[t], breaks, points_, [&](double s, double w) {
-        p[t] = s;
-        emit(p, w);
-      });
+      gauss_on_pieces(box.lo[t], box.hi[t], roots_along(kept, p, t, box.lo[t], box.hi[t], 4), points_,
+                      [&](double s, double w) {
+                        p[t] = s;
+                        emit(p, w);
+                      });
       return;
     }
     if (kept.empty()) return tensor_emit(box, free, emit);
@@ -703,18 +711,11 @@ class CutCellRule<D>::Impl {
       }
     smooth_rule(box, free & ~(1u << s), sub, depth, [&](const Point& x, double w) {
       Point p = x;
-      std::vector<double> breaks;
-      for (const int l : monotone)
-        append_roots(
-            [&](double t) {
-              p[s] = t;
-              return level_value(l, p, nullptr);
-            },
-            box.lo[s], box.hi[s], breaks, 2);
-      gauss_on_pieces(box.lo[s], box.hi[s], breaks, points_, [&](double t, double ws) {
-        p[s] = t;
-        emit(p, w * ws);
-      });
+      gauss_on_pieces(box.lo[s], box.hi[s], roots_along(monotone, p, s, box.lo[s], box.hi[s], 2), points_,
+                      [&](double t, double ws) {
+                        p[s] = t;
+                        emit(p, w * ws);
+                      });
     });
   }
 

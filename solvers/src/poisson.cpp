@@ -230,16 +230,6 @@ SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>&
   return {};
 }
 
-/// The trial functions of Nitsche's method: the WEB B-splines themselves.
-TrialStructure weak_dirichlet_trial() {
-  TrialStructure t;
-  t.scale = 1.0;
-  t.offset = 0.0;
-  t.robin_weight = 0.0;
-  t.robin_field = 0.0;
-  return t;
-}
-
 /// The named parts, then the rest: the order of the surface tape's data.
 std::vector<const BoundaryPart*> all_parts(const PoissonProblem& problem) {
   std::vector<const BoundaryPart*> parts;
@@ -285,33 +275,48 @@ void check_options(const PoissonProblem& problem, const SolverOptions& options) 
     if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
 }
 
-/// Conjugate gradients; with a `budget`, gives up after that many
-/// iterations and returns nothing, else throws when they do not converge.
+/// What conjugate gradients reached.
+struct CgResult {
+  Eigen::VectorXd x;
+  bool converged = false;
+  double residual = 1.0;  // relative
+};
+
+/// Conjugate gradients from `guess` (or 0), for at most `budget`
+/// iterations; without a budget, throws when they do not converge.
 template <class Preconditioner>
-std::optional<Eigen::VectorXd> conjugate_gradients(const Eigen::SparseMatrix<double>& system,
-                                                   const Eigen::VectorXd& right, double tolerance, SolveReport& report,
-                                                   int budget = 0) {
+CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
+                             SolveReport& report, int budget = 0, const Eigen::VectorXd* guess = nullptr) {
   Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
   cg.setTolerance(tolerance);
   report.cg_tolerance = tolerance;
   cg.setMaxIterations(budget > 0 ? budget : 10 * system.rows() + 100);
   cg.compute(system);
   if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
-  Eigen::VectorXd x = cg.solve(right);
+  CgResult result;
+  if (guess) {
+    result.x = cg.solveWithGuess(right, *guess);
+  } else {
+    result.x = cg.solve(right);
+  }
   report.iterations += static_cast<int>(cg.iterations());
-  if (cg.info() == Eigen::Success) return x;
-  if (budget > 0) return std::nullopt;
-  throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
-                           " iterations (relative residual " + std::to_string(cg.error()) + ")");
+  result.converged = cg.info() == Eigen::Success;
+  result.residual = cg.error();
+  if (!result.converged && budget == 0)
+    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
+                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
+  return result;
 }
 
-/// 3D, automatic: Jacobi's preconditioner is set up for free and enough for
-/// resolved domains (a few hundred iterations), but domains with features
-/// of a few cells' width (a mesh's thin ears) make the WEB system's
+/// 3D, automatic: Jacobi's preconditioner is set up for free and enough
+/// for most domains (a few hundred to 1,400 iterations), but domains with
+/// features a few cells wide (a mesh's thin ears) make the WEB system's
 /// condition reach 1e8 after scaling, where Jacobi needs 8,000 iterations
-/// and incomplete Cholesky 23. So Jacobi for this many, then incomplete
-/// Cholesky (from zero: a guess would not keep Jacobi's Krylov space).
-constexpr int kJacobiBudget = 1000;
+/// and incomplete Cholesky 23 (its set-up costs several times a hundred
+/// Jacobi iterations). So Jacobi in legs, while they promise convergence
+/// within kJacobiBudget iterations.
+constexpr int kJacobiProbe = 200;
+constexpr int kJacobiBudget = 4000;
 
 /// Local B-splines and their gradients at the points of the tensor Gauss
 /// rule of an inside cell, in the order of CellQuadrature::append_rule
@@ -618,8 +623,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   check_memory<D>(grid, candidates, report, options, memory_limit);
   timer.lap(&StageSeconds::classification);
 
-  const BoundaryStructure structure = boundary_structure(problem, interior);
-  const bool structured = options.robin == RobinRoute::Structure && structure.has_weak_parts;
+  bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet, has_weak = !has_dirichlet;
+  for (const BoundaryPart& part : problem.parts) {
+    has_dirichlet = has_dirichlet || part.kind == BoundaryKind::Dirichlet;
+    has_weak = has_weak || part.kind != BoundaryKind::Dirichlet;
+  }
+  const bool structured = options.robin == RobinRoute::Structure && has_weak;
   if (structured && n < 2)
     throw std::invalid_argument(
         "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
@@ -633,19 +642,19 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     throw std::invalid_argument(
         "the Robin structure is built on the Dirichlet structure: impose Dirichlet conditions by the structure too "
         "(--dirichlet structure), or Neumann and Robin conditions weakly");
-  bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet;
-  for (const BoundaryPart& part : problem.parts) has_dirichlet = has_dirichlet || part.kind == BoundaryKind::Dirichlet;
   const bool weak_dirichlet = route == DirichletRoute::Weak && has_dirichlet;
+  const BoundaryStructure structure = boundary_structure(problem, interior, route == DirichletRoute::Structure);
   report.dirichlet_route = route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
   if (weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
   const bool needs_surface = structure.has_weak_parts || weak_dirichlet;
   double longest = 0.0;
   for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
   if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest);
+  // Nitsche's trial functions are the WEB B-splines themselves: the
+  // structure's omega_D = 1 and g~ = 0 then (boundary_structure()).
   const TrialStructure trial = structured
                                    ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
-                               : weak_dirichlet ? weak_dirichlet_trial()
-                                                : dirichlet_trial(structure);
+                                   : dirichlet_trial(structure);
   const bool second = trial.second_function();
   // Cells that may meet the structure's band (omega_R < band over the cell,
   // by intervals) hold its cut-offs, polynomials of degree power + 2 or so in
@@ -1071,21 +1080,37 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     report.linear_solver = "sparse LDLT (AMD ordering)";
     report.iterations = 1;
   } else if (kind == LinearSolverKind::ConjugateGradient) {
-    coefficients = *conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
+    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report).x;
     report.linear_solver = "conjugate gradients, incomplete Cholesky";
   } else if (options.linear_solver == LinearSolverKind::Automatic) {
     report.linear_solver = "conjugate gradients, Jacobi";
-    auto jacobi =
-        conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, kJacobiBudget);
-    if (jacobi) {
-      coefficients = *jacobi;
+    // Jacobi in legs: after each, the rate of the last leg says how many
+    // more iterations it needs (CG's residual falls about geometrically
+    // once past its first fast phase); beyond the budget, incomplete Cholesky.
+    CgResult leg =
+        conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, kJacobiProbe);
+    int spent = kJacobiProbe, length = kJacobiProbe;
+    double start = 1.0;
+    while (!leg.converged) {
+      const double per_iteration = std::log(leg.residual / start) / length;
+      const double more = per_iteration < 0.0 ? std::log(tolerance / leg.residual) / per_iteration
+                                              : std::numeric_limits<double>::infinity();
+      if (spent + more > kJacobiBudget) break;
+      start = leg.residual;
+      length = std::max(kJacobiProbe, static_cast<int>(1.2 * more));
+      leg =
+          conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, length, &leg.x);
+      spent += length;
+    }
+    if (leg.converged) {
+      coefficients = leg.x;
     } else {
-      coefficients = *conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report);
-      report.linear_solver = "conjugate gradients, Jacobi (" + std::to_string(kJacobiBudget) +
-                             " iterations, not converged), then incomplete Cholesky";
+      coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report).x;
+      report.linear_solver =
+          "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then incomplete Cholesky";
     }
   } else {
-    coefficients = *conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report);
+    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report).x;
     report.linear_solver = "conjugate gradients, Jacobi";
   }
   if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");

@@ -72,6 +72,8 @@ TEST(BoundaryStructure, RefusesWhatItCannotPose) {
   PoissonProblem p = square_with_hole();
   p.parts[1].kind = BoundaryKind::Neumann;  // rest stays Dirichlet
   EXPECT_THROW(boundary_structure(p, {0.7, 0.0, 0.0}), std::invalid_argument);
+  // Nitsche's method needs no omega_D: the same problem is posed.
+  EXPECT_FALSE(boundary_structure(p, {0.7, 0.0, 0.0}, false).pure_neumann);
   p.rest.kind = BoundaryKind::Neumann;
   p.parts[0].kind = BoundaryKind::Neumann;
   EXPECT_TRUE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);  // posed with zero mean (poisson.hpp)

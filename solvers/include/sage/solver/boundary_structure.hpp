@@ -19,9 +19,12 @@ struct BoundaryStructure {
 };
 
 /// `interior` is a point inside the domain, where the selectors' signs are
-/// read. Throws std::invalid_argument for problems this solver does not
-/// pose (a Dirichlet rest beside weak parts; a selector that
-/// vanishes at the interior point).
-BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior);
+/// read. With `dirichlet_structure` false (Dirichlet conditions by
+/// Nitsche's method) omega_D and g~ are left at 1 and 0. Throws
+/// std::invalid_argument for problems this solver does not pose (for the
+/// structure, a Dirichlet rest beside weak parts: omega_D would need the
+/// rest's own field; a selector that vanishes at the interior point).
+BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior,
+                                     bool dirichlet_structure = true);
 
 }  // namespace sage::solver
