@@ -256,9 +256,9 @@ void add_nitsche_terms(const BackgroundGrid<D>& grid, const std::array<int, D>& 
   for (int a = 0; a < D; ++a) dn += s.normal[a] * Eigen::Map<const Eigen::VectorXd>(local.gradient[a].data(), count);
   const double wk = s.weight * conductivity;
   rhs.head(count) += (wk * g) * (sigma * values - dn);
-  for (int j = 0; j < count; ++j)
-    for (int l = 0; l <= j; ++l)
-      stiffness(j, l) += wk * (sigma * values[j] * values[l] - dn[j] * values[l] - values[j] * dn[l]);
+  auto lower = stiffness.topLeftCorner(count, count).template selfadjointView<Eigen::Lower>();
+  lower.rankUpdate(values, wk * sigma);
+  lower.rankUpdate(values, dn, -wk);
 }
 
 template <int D>
