@@ -102,7 +102,8 @@ struct DomainPieces {
 };
 
 /// What a box holds of the domain: its kind and the formula restricted to
-/// it (Cut boxes only: the pieces whose zero sets may meet the box).
+/// it, which reads the pieces whose zero sets may meet the box (for an
+/// Inside box, those that only touch its faces; none otherwise).
 struct CellDomain {
   CellKind kind = CellKind::Outside;
   BooleanFormula formula = BooleanFormula::constant(false);
@@ -120,7 +121,7 @@ struct QuadratureCounts {
   std::size_t masked_boxes = 0;        // sub-boxes integrated by sign-masked Gauss points
   std::size_t masked_points = 0;       // volume points those produced
   std::size_t unresolved_surface = 0;  // sub-boxes where a piece's surface found no height direction
-  std::size_t unbroken_boxes = 0;      // mesh sub-boxes with too many planes: base rules without breaks
+  std::size_t unbroken_boxes = 0;      // mesh cells whose planes bend slightly: base rules without breaks
 };
 
 template <int D>
@@ -140,7 +141,7 @@ class CellQuadrature {
   const QuadratureCounts& counts() const;
 
  private:
-  class Rule;  // the cut-cell rule (domain_quadrature.cpp)
+  class Rule;  // the pieces' tapes and the cut-cell rule (domain_quadrature.cpp)
   std::unique_ptr<Rule> rule_;
 };
 
