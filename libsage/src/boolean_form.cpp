@@ -1,6 +1,7 @@
 #include <sage/boolean_form.hpp>
 
 #include <algorithm>
+#include <array>
 #include <unordered_map>
 
 namespace sage {
@@ -102,11 +103,14 @@ BooleanFormula BooleanFormula::disjunction(const BooleanFormula& f, const Boolea
   return join(Kind::Or, f, g);
 }
 
-bool BooleanFormula::holds(const std::function<bool(std::size_t)>& inside) const {
-  if (is_constant()) return constant_;
-  std::vector<char> value(nodes_.size());
-  for (std::size_t k = 0; k < nodes_.size(); ++k) {
-    const Node& n = nodes_[k];
+namespace {
+
+/// The formula's nodes evaluated bottom-up into `value` (one per node).
+template <class Inside>
+bool evaluate_nodes(const std::vector<BooleanFormula::Node>& nodes, const Inside& inside, char* value) {
+  using Kind = BooleanFormula::Kind;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const BooleanFormula::Node& n = nodes[k];
     switch (n.kind) {
       case Kind::Piece: value[k] = inside(n.a) ? 1 : 0; break;
       case Kind::Not: value[k] = value[n.a] ? 0 : 1; break;
@@ -114,11 +118,32 @@ bool BooleanFormula::holds(const std::function<bool(std::size_t)>& inside) const
       case Kind::Or: value[k] = value[n.a] || value[n.b] ? 1 : 0; break;
     }
   }
-  return value.back() != 0;
+  return value[nodes.size() - 1] != 0;
+}
+
+/// Small formulas (a cell's few pieces) on the stack: the cut-cell rules
+/// evaluate them at every segment of every line.
+template <class Inside>
+bool evaluate(const std::vector<BooleanFormula::Node>& nodes, const Inside& inside) {
+  constexpr std::size_t kOnStack = 64;
+  if (nodes.size() <= kOnStack) {
+    std::array<char, kOnStack> value;
+    return evaluate_nodes(nodes, inside, value.data());
+  }
+  std::vector<char> value(nodes.size());
+  return evaluate_nodes(nodes, inside, value.data());
+}
+
+}  // namespace
+
+bool BooleanFormula::holds(const std::function<bool(std::size_t)>& inside) const {
+  if (is_constant()) return constant_;
+  return evaluate(nodes_, inside);
 }
 
 bool BooleanFormula::holds(const std::vector<char>& inside) const {
-  return holds([&](std::size_t i) { return inside[i] != 0; });
+  if (is_constant()) return constant_;
+  return evaluate(nodes_, [&](std::size_t i) { return inside[i] != 0; });
 }
 
 BooleanFormula BooleanFormula::restricted(const std::function<int(std::size_t)>& sign) const {
