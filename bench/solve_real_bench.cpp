@@ -138,7 +138,7 @@ int main(int argc, char** argv) {
     const std::string problem = "/tmp/solve_real_bench_lake.json";
     std::ofstream(problem) << R"({ "domain": ")" << path << R"(", "source": 1 })";
     const std::string command = "OMP_NUM_THREADS=1 " + std::string(SAGE_BINARY_DIR) + "/cli/sage solve " + problem +
-                                " -o /tmp/solve_real_bench_lake.vtu --degree 2 --cells 128 --no-condition";
+                                " -o /tmp/solve_real_bench_lake.vtu --degree 2 --cells 128";
     const auto start = std::chrono::steady_clock::now();
     const int status = std::system((command + " > /tmp/solve_real_bench_lake.txt").c_str());
     std::printf("\nsage solve lake, 128 cells, one thread, all stages with the output: %.2f s wall (exit %d)\n",

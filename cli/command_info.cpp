@@ -4,10 +4,12 @@
 #include "field_job.hpp"
 
 #include <sage/evaluator.hpp>
+#include <sage/field_samples.hpp>
 #include <sage/tape.hpp>
 
 #include <boost/program_options.hpp>
 
+#include <cmath>
 #include <iostream>
 
 namespace po = boost::program_options;
@@ -18,15 +20,15 @@ int run_info(const std::vector<std::string>& args) {
   std::string model_path, rfunction;
   po::options_description options("Usage: sage info MODEL [options]\nPrints a summary of a model.\n\nOptions");
   geometry::LoadOptions load;
-  std::string where, layer;
+  SourceOptionText source_text;
   auto add = options.add_options();
   add("help,h", "show this help");
   add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
   add("no-certify", "polygons: skip the well-formedness certificate");
-  add_source_options(options, load, where, layer);
+  add_source_options(options, load, source_text);
   po::variables_map vm;
   if (!parse_model_command(args, options, model_path, vm)) return 0;
-  finish_source_options(vm, load, where, layer);
+  finish_source_options(vm, load, source_text);
   load.certify = vm.count("no-certify") == 0;
 
   const geometry::Model model =
@@ -51,6 +53,11 @@ int run_info(const std::vector<std::string>& args) {
     eval.evaluate_with(box);
     std::cout << "omega range: within [" << eval.result().lo << ", " << eval.result().hi
               << "] over the bounds (interval arithmetic)\n";
+    double diagonal2 = 0.0;
+    for (int a = 0; a < model.dimension; ++a) diagonal2 += (b.max[a] - b.min[a]) * (b.max[a] - b.min[a]);
+    std::cout << "sampling:    sage field by default: far parts of the field become patches within "
+              << kDefaultFarFieldTolerance << " of the bounds' diagonal ("
+              << kDefaultFarFieldTolerance * std::sqrt(diagonal2) << "); --exact for exact evaluation\n";
   } else {
     std::cout << "bounds:      none in the model (sage field needs --bounds)\n";
   }

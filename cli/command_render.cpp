@@ -80,11 +80,11 @@ int run_render(const std::vector<std::string>& args) {
   add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
   add("quiet,q", "no summary");
   geometry::LoadOptions load;
-  std::string where, layer;
-  add_source_options(options, load, where, layer);
+  SourceOptionText source_text;
+  add_source_options(options, load, source_text);
   po::variables_map vm;
   if (!parse_model_command(args, options, model_path, vm)) return 0;
-  finish_source_options(vm, load, where, layer);
+  finish_source_options(vm, load, source_text);
   int width = 0, height = 0;
   parse_size(size, width, height);
   if (hit != "interval" && hit != "sphere") throw UsageError{"--hit: expected interval or sphere, not \"" + hit + "\""};

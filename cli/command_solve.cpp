@@ -2,7 +2,7 @@
 //            [--basis web|weighted] [--robin weak|structure [--robin-band F] [--robin-band-power M]]
 //            [--solver auto|direct|cg|jacobi] [--tolerance T]
 //            [--grid RES]
-//            [--quadrature-points FILE.vtu] [--condition | --no-condition] [--quiet]
+//            [--quadrature-points FILE.vtu] [--condition] [--quiet]
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -246,15 +246,13 @@ int run_solve(const std::vector<std::string>& args) {
       "box's longest side: below the discretization error)");
   add("grid", po::value(&command.grid), "output points per axis, e.g. 200x200 (default: 4 per cell)");
   add("quadrature-points", po::value(&command.quadrature_path), "also write the quadrature points to this .vtu");
-  add("no-condition", "skip the condition estimate (2D default: on)");
-  add("condition", "estimate the condition number in 3D too (two sparse factorizations: slow)");
+  add("condition", "also estimate the condition number (two sparse factorizations: slow on large problems)");
   add("quiet,q", "no summary");
   po::variables_map vm;
   if (!parse_model_command(args, options, command.problem_path, vm)) return 0;
   if (vm.count("cells")) command.cells = cells;
   if (vm.count("h")) command.h = h;
   command.quiet = vm.count("quiet") > 0;
-  if (vm.count("condition") && vm.count("no-condition")) throw UsageError{"give --condition or --no-condition"};
   command.options.keep_quadrature = !command.quadrature_path.empty();
   if (!ends_with(command.output_path, ".vtu")) throw UsageError{"-o " + command.output_path + ": must end in .vtu"};
   if (!command.quadrature_path.empty() && !ends_with(command.quadrature_path, ".vtu"))
@@ -306,8 +304,7 @@ int run_solve(const std::vector<std::string>& args) {
   const ProblemFile file = read_problem_file(command.problem_path);
   const solver::PoissonProblem& problem = file.problem;
   command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));
-  command.options.estimate_condition =
-      vm.count("condition") > 0 || (vm.count("no-condition") == 0 && problem.dimension == 2);
+  command.options.estimate_condition = vm.count("condition") > 0;
   if (command.h) {
     command.options.cell_width = *command.h;
   } else {

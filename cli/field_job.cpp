@@ -32,18 +32,23 @@ geometry::Model load_model(const std::string& path, const std::optional<std::str
   }
   if (options.method != "csg" && options.method != "brep")
     throw UsageError{"--method must be csg or brep, not '" + options.method + "'"};
-  return geometry::load_model(path, options);
+  geometry::Model model = geometry::load_model(path, options);
+  for (const std::string& warning : model.warnings) std::cerr << "warning: " << warning << "\n";
+  return model;
 }
 
 void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
-                        std::string& where, std::string& layer) {
+                        SourceOptionText& text) {
   namespace po = boost::program_options;
   auto add = description.add_options();
   add("method", po::value(&options.method)->default_value("csg"),
       "polygons and meshes: csg (well-formed CSG) or brep (trimmed edges/faces)");
   add("feature", po::value(&options.features)->multitoken(), "GIS: feature numbers to use (0-based; repeatable)");
-  add("where", po::value(&where), "GIS: attribute filter, e.g. \"NAME = 'Wisconsin'\"");
-  add("layer", po::value(&layer), "GIS: layer name (default: the first)");
+  add("where", po::value(&text.where), "GIS: attribute filter, e.g. \"NAME = 'Wisconsin'\"");
+  add("layer", po::value(&text.layer), "GIS: layer name (default: the first)");
+  add("crs", po::value(&text.crs),
+      "GIS: the data's coordinate reference system, e.g. EPSG:4326 (any CRS PROJ knows),\n"
+      "in place of the file's own or for files without one");
   add("repair", po::bool_switch(&options.repair), "fix invalid geometry where that is safe (GEOS MakeValid)");
   add("orthogonalize", po::bool_switch(&options.orthogonalize), "B-rep: orthogonalize trimming at corners");
 }
@@ -68,9 +73,10 @@ bool parse_model_command(const std::vector<std::string>& args,
 }
 
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
-                           const std::string& where, const std::string& layer) {
-  if (vm.count("where")) options.where = where;
-  if (vm.count("layer")) options.layer = layer;
+                           const SourceOptionText& text) {
+  if (vm.count("where")) options.where = text.where;
+  if (vm.count("layer")) options.layer = text.layer;
+  if (vm.count("crs")) options.crs = text.crs;
 }
 
 Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
@@ -103,7 +109,7 @@ FieldReport run_field_job(const FieldJob& job) {
   if (job.order < 1 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 1 to " + std::to_string(kMaxSampleOrder)};
   if (!(job.tolerance >= 0 && job.tolerance < 1e-2))
-    throw UsageError{"--tolerance must be from 0 (exact) to below 1e-2 of the diagonal"};
+    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   FieldReport report;
   report.grid = grid_for(model, job.grid, job.bounds);

@@ -2,6 +2,7 @@
 // One field job: read a model, sample its field on a grid, write a VTK
 // file. Shared by `sage field` and `sage demo`.
 
+#include <sage/field_samples.hpp>
 #include <sage/geometry/model.hpp>
 #include <sage/grid.hpp>
 
@@ -22,7 +23,7 @@ struct FieldJob {
   int order = 1;
   // Far-field approximation: allowed deviation relative to the grid box's
   // diagonal (0 = exact sampling).
-  double tolerance = 0;
+  double tolerance = kDefaultFarFieldTolerance;
   bool show_progress = true;
 };
 
@@ -39,10 +40,13 @@ geometry::Model load_model(const std::string& path, const std::optional<std::str
                            geometry::LoadOptions options = {});
 
 /// Adds the options for GIS data and meshes (--method, --feature, --where,
-/// --layer, --repair, --orthogonalize) to a command's options, writing
-/// into `options`; call finish_source_options after parsing.
+/// --layer, --crs, --repair, --orthogonalize) to a command's options,
+/// writing into `options`; call finish_source_options after parsing.
+struct SourceOptionText {
+  std::string where, layer, crs;  // parsed as text, moved into LoadOptions when given
+};
 void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
-                        std::string& where, std::string& layer);
+                        SourceOptionText& text);
 /// Parses a command line of the form MODEL [options]: stores the model
 /// path, prints `options` and returns false for --help, else notifies.
 bool parse_model_command(const std::vector<std::string>& args,
@@ -50,7 +54,7 @@ bool parse_model_command(const std::vector<std::string>& args,
                          boost::program_options::variables_map& vm);
 
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
-                           const std::string& where, const std::string& layer);
+                           const SourceOptionText& text);
 
 /// The grid for a model: --grid / --bounds when given, else the model's
 /// bounds and a default resolution (200x200 or 64x64x64).

@@ -144,6 +144,7 @@ class Reader {
   void read_boundary(const Json& boundary) {
     if (!boundary.is_object()) fail("/boundary", "expected an object mapping part names to conditions");
     solver::PoissonProblem& p = out_.problem;
+    p.rest_given = boundary.contains("default");
     for (const auto& [name, condition] : boundary.items()) {
       const std::string pointer = "/boundary/" + name;
       solver::BoundaryPart part = read_condition(condition, pointer, name);

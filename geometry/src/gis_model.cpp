@@ -60,7 +60,7 @@ bool is_gis_path(const std::string& path) {
 
 Model load_gis(const std::string& path, const LoadOptions& options) {
   GisPolygons gis = read_gis_polygons(path, options);
-  const ValidationReport report = validate_polygons(gis.polygons, path);
+  const ValidationReport report = validate_polygons(gis.polygons, path, options.repair);
 
   Model m;
   m.source = path;
@@ -73,6 +73,7 @@ Model load_gis(const std::string& path, const LoadOptions& options) {
            std::to_string(gis.polygons.edge_count()) + " edges";
   m.notes.push_back("coordinates: " + gis.crs);
   for (const auto& n : gis.notes) m.notes.push_back(n);
+  m.warnings = gis.warnings;
   for (const auto& n : report.notes()) m.notes.push_back("validation: " + n);
   if (report.notes().empty()) m.notes.push_back("validation: no defects found");
   m.primitives.push_back({"", "edges", std::to_string(gis.polygons.edge_count()) + " edges"});

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -84,6 +85,79 @@ std::unique_ptr<OGRSpatialReference> local_projection(double lat, double lon) {
   return srs;
 }
 
+using Geometries = std::vector<std::pair<long long, GeometryPtr>>;
+
+/// True when every coordinate of the geometries is a possible longitude
+/// and latitude in degrees.
+bool within_lon_lat(const Geometries& geometries) {
+  for (const auto& [i, g] : geometries) {
+    OGREnvelope e;
+    g->getEnvelope(&e);
+    if (e.MinX < -180 || e.MaxX > 180 || e.MinY < -90 || e.MaxY > 90) return false;
+  }
+  return true;
+}
+
+/// Transforms longitude/latitude geometries (in `source_srs`) to a local
+/// azimuthal equidistant projection; returns what was done, in words.
+std::string project_lon_lat(const std::string& path, const OGRSpatialReference& source_srs, Geometries& geometries) {
+  OGREnvelope box;
+  bool first = true;
+  for (auto& [i, g] : geometries) {
+    OGREnvelope e;
+    g->getEnvelope(&e);
+    if (first)
+      box = e;
+    else
+      box.Merge(e);
+    first = false;
+  }
+  const double lon = 0.5 * (box.MinX + box.MaxX), lat = 0.5 * (box.MinY + box.MaxY);
+  std::unique_ptr<OGRSpatialReference> source(source_srs.Clone());
+  source->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  const auto target = local_projection(lat, lon);
+  std::unique_ptr<OGRCoordinateTransformation> transform(OGRCreateCoordinateTransformation(source.get(), target.get()));
+  if (!transform) throw ModelError(path + ": cannot project the data: " + QuietGdal::last_message());
+  for (auto& [i, g] : geometries)
+    if (g->transform(transform.get()) != OGRERR_NONE)
+      throw ModelError(path + ": feature " + std::to_string(i) + ": projection failed: " + QuietGdal::last_message());
+  std::ostringstream crs;
+  crs.precision(8);
+  crs << "longitude/latitude (" << (source_srs.GetName() ? source_srs.GetName() : "geographic")
+      << ") projected to azimuthal equidistant centred on lat " << lat << ", lon " << lon << " (WGS84, metres)";
+  return crs.str();
+}
+
+/// Brings the geometries into a plane in metres: longitude/latitude data is
+/// projected, projected data kept. The source system is `user_crs` (--crs)
+/// when given, else the layer's; data with neither is taken as planar, with
+/// a warning when its coordinates could be degrees. Returns what was done.
+std::string project_to_plane(const std::string& path, const OGRSpatialReference* layer_srs,
+                             const std::optional<std::string>& user_crs, Geometries& geometries,
+                             std::vector<std::string>& warnings) {
+  OGRSpatialReference given;
+  std::string overridden;
+  if (user_crs) {
+    if (given.SetFromUserInput(user_crs->c_str()) != OGRERR_NONE)
+      throw ModelError(path + ": --crs " + *user_crs + ": PROJ does not know this coordinate reference system (" +
+                       QuietGdal::last_message() + "); give it as EPSG:XXXX, a PROJ string or WKT");
+    if (layer_srs && layer_srs->GetName())
+      overridden = std::string(", --crs in place of the file's ") + layer_srs->GetName();
+    layer_srs = &given;
+  }
+  if (!layer_srs) {
+    if (within_lon_lat(geometries))
+      warnings.push_back(path +
+                         ": no coordinate reference system, and every coordinate lies within longitude/latitude "
+                         "ranges: if they are degrees, give --crs EPSG:4326 (the field is built as if they were "
+                         "planar)");
+    return "no coordinate reference system: coordinates used as is (assumed planar)";
+  }
+  if (layer_srs->IsGeographic()) return project_lon_lat(path, *layer_srs, geometries) + overridden;
+  return std::string(layer_srs->GetName() ? layer_srs->GetName() : "projected") + " (projected, used as is)" +
+         overridden;
+}
+
 }  // namespace
 
 GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& options) {
@@ -103,7 +177,7 @@ GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& option
   GisPolygons out;
   // Collect the selected features' geometries (owned copies).
   const std::set<long long> wanted(options.features.begin(), options.features.end());
-  std::vector<std::pair<long long, GeometryPtr>> geometries;
+  Geometries geometries;
   long long index = 0;
   layer->ResetReading();
   for (auto& feature : *layer) {
@@ -124,14 +198,24 @@ GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& option
     throw ModelError(path + ": no polygon features selected" + (options.where ? " (--where matched none)" : ""));
 
   for (auto& [i, g] : geometries) {
-    const std::string where = path + ": feature " + std::to_string(i);
     if (g->hasCurveGeometry()) g.reset(g->getLinearGeometry());
-    polygons_of(g.get(), where);  // type check before any repair
+    polygons_of(g.get(), path + ": feature " + std::to_string(i));  // type check before anything else
+  }
+  out.crs = project_to_plane(path, layer->GetSpatialRef(), options.crs, geometries, out.warnings);
+
+  // Repair in the plane where the field is built: straight edges between
+  // projected vertices are not the images of the edges in longitude and
+  // latitude, so data valid there may cross here, and the reverse.
+  for (auto& [i, g] : geometries) {
+    const std::string where = path + ": feature " + std::to_string(i);
     if (options.repair && !g->IsValid()) {
       if (!OGRGeometryFactory::haveGEOS()) throw ModelError(where + ": --repair needs GDAL built with GEOS");
       GeometryPtr fixed(g->MakeValid());
-      if (!fixed) throw ModelError(where + ": could not be repaired: " + QuietGdal::last_message());
-      out.notes.push_back("feature " + std::to_string(i) + " was invalid and was repaired (GEOS MakeValid)");
+      if (!fixed || !fixed->IsValid())
+        throw ModelError(where + ": GEOS MakeValid could not make it valid (" + QuietGdal::last_message() +
+                         "): leave the feature out (--feature, --where) or fix it in a GIS editor");
+      out.notes.push_back("feature " + std::to_string(i) +
+                          " was invalid and was repaired in the projected plane (GEOS MakeValid)");
       g = std::move(fixed);
     }
   }
@@ -149,41 +233,6 @@ GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& option
     const long long first = geometries.front().first;
     geometries.clear();
     geometries.emplace_back(first, std::move(united));
-  }
-
-  // Coordinate system.
-  const OGRSpatialReference* layer_srs = layer->GetSpatialRef();
-  if (!layer_srs) {
-    out.crs = "no coordinate reference system: coordinates used as is (assumed planar)";
-  } else if (layer_srs->IsGeographic()) {
-    OGREnvelope box;
-    bool first = true;
-    for (auto& [i, g] : geometries) {
-      OGREnvelope e;
-      g->getEnvelope(&e);
-      if (first)
-        box = e;
-      else
-        box.Merge(e);
-      first = false;
-    }
-    const double lon = 0.5 * (box.MinX + box.MaxX), lat = 0.5 * (box.MinY + box.MaxY);
-    std::unique_ptr<OGRSpatialReference> source(layer_srs->Clone());
-    source->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    const auto target = local_projection(lat, lon);
-    std::unique_ptr<OGRCoordinateTransformation> transform(
-        OGRCreateCoordinateTransformation(source.get(), target.get()));
-    if (!transform) throw ModelError(path + ": cannot project the data: " + QuietGdal::last_message());
-    for (auto& [i, g] : geometries)
-      if (g->transform(transform.get()) != OGRERR_NONE)
-        throw ModelError(path + ": feature " + std::to_string(i) + ": projection failed: " + QuietGdal::last_message());
-    std::ostringstream crs;
-    crs.precision(8);
-    crs << "longitude/latitude (" << (layer_srs->GetName() ? layer_srs->GetName() : "geographic")
-        << ") projected to azimuthal equidistant centred on lat " << lat << ", lon " << lon << " (WGS84, metres)";
-    out.crs = crs.str();
-  } else {
-    out.crs = std::string(layer_srs->GetName() ? layer_srs->GetName() : "projected") + " (projected, used as is)";
   }
 
   for (auto& [i, g] : geometries) {

@@ -238,11 +238,12 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
   const Expr w = mesh::brep_distance(soup.points, soup.triangles, model.rfunction, trim_system, options.orthogonalize);
   if (!xi) xi = mesh::make_mesh_classifier(soup.points, soup.triangles);
   model.field = Expr::classify(xi) * w;
-  model.notes.push_back("method: brep; field = xi * (R-conjunction (" + model.rfunction.name() +
-                        ", balanced tree, triangles in file order) of the smooth normalized trimmings of the " +
-                        std::to_string(soup.triangles.size()) + " triangle planes by their extruded regions" +
-                        (options.orthogonalize ? ", orthogonalized" : "") + " (regions: R-conjunction " +
-                        trim_system.name() + " of the edge planes)), xi exact point membership (CGAL)");
+  model.notes.push_back(
+      "method: brep; field = xi * (R-conjunction (" + model.rfunction.name() +
+      ", balanced tree over median splits of the triangles' centroids) of the smooth normalized trimmings of the " +
+      std::to_string(soup.triangles.size()) + " triangle planes by their extruded regions" +
+      (options.orthogonalize ? ", orthogonalized" : "") + " (regions: R-conjunction " + trim_system.name() +
+      " of the edge planes)), xi exact point membership (CGAL)");
   model.primitives.push_back({"", "faces",
                               std::to_string(soup.triangles.size()) + " triangles from " +
                                   std::to_string(soup.file_faces) + " faces (0.." +

@@ -102,7 +102,8 @@ bool overlap_along_line(const Edge& e, const Edge& f) {
   return common && boost::get<K::Segment_2>(&*common) != nullptr;
 }
 
-void check_intersections(const std::vector<Edge>& edges, const std::string& source, ValidationReport& report) {
+void check_intersections(const std::vector<Edge>& edges, const std::string& source, const std::string& remedy,
+                         ValidationReport& report) {
   double x0 = edges[0].a.x(), x1 = x0, y0 = edges[0].a.y(), y1 = y0;
   for (const Edge& e : edges) {
     x0 = std::min(x0, e.a.x());
@@ -141,11 +142,10 @@ void check_intersections(const std::vector<Edge>& edges, const std::string& sour
         const std::string place =
             e.ring->where(e.ring->source_vertex[e.index]) + " and " + f.ring->where(f.ring->source_vertex[f.index]);
         if (o1 == CGAL::COLLINEAR && o2 == CGAL::COLLINEAR && overlap_along_line(e, f))
-          throw ModelError(source + ": edges overlap along a line: the edge after " + place +
-                           " (use --repair to fix invalid geometry)");
+          throw ModelError(source + ": edges overlap along a line: the edge after " + place + " (" + remedy + ")");
         if (o1 != CGAL::COLLINEAR && o2 != CGAL::COLLINEAR && o3 != CGAL::COLLINEAR && o4 != CGAL::COLLINEAR)
           throw ModelError(source + ": edges cross: the edge after " + place +
-                           " (a self-intersecting ring or crossing rings; use --repair to fix invalid geometry)");
+                           " (a self-intersecting ring or crossing rings; " + remedy + ")");
         ++report.touchings;  // a vertex on another edge or vertex
       }
 }
@@ -196,7 +196,11 @@ std::vector<std::string> ValidationReport::notes() const {
   return n;
 }
 
-ValidationReport validate_polygons(PolygonSet& set, const std::string& source) {
+ValidationReport validate_polygons(PolygonSet& set, const std::string& source, bool repaired) {
+  // Never suggest the flag that was given.
+  const std::string remedy = repaired ? "left after --repair, in the repaired geometry's numbering: leave the feature "
+                                        "out (--feature, --where) or fix it in a GIS editor"
+                                      : "use --repair to fix invalid geometry";
   ValidationReport report;
   if (set.polygons.empty()) throw ModelError(source + ": no polygons");
   for (auto& p : set.polygons) {
@@ -209,7 +213,7 @@ ValidationReport validate_polygons(PolygonSet& set, const std::string& source) {
     const int n = static_cast<int>(r.points.size());
     for (int i = 0; i < n; ++i) edges.push_back({&r, i, cgal(r.points[i]), cgal(r.points[(i + 1) % n])});
   });
-  check_intersections(edges, source, report);
+  check_intersections(edges, source, remedy, report);
 
   for (auto& p : set.polygons) {
     orient(p.outer, true, report);

@@ -17,6 +17,7 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
   FieldSamples s;
   s.grid = grid;
   s.order = K;
+  s.far_field_tolerance = approximation ? approximation->tolerance : 0.0;
   s.omega.resize(n);
   s.gradient.assign(3 * n, 0.0);
   s.gradient_norm.resize(n);

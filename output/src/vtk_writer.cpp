@@ -2,11 +2,13 @@
 
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLImageDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
@@ -30,6 +32,22 @@ vtkNew<vtkDoubleArray> make_array(const std::string& name, int components, const
   a->SetNumberOfTuples(static_cast<vtkIdType>(values.size() / static_cast<std::size_t>(components)));
   std::copy(values.begin(), values.end(), a->GetPointer(0));
   return a;
+}
+
+/// Field data saying how the samples were made (ParaView shows it in the
+/// spreadsheet view's field data): "evaluation" in words, and
+/// "far_field_tolerance" in field units (0 when exact).
+void add_provenance(vtkFieldData* data, const FieldSamples& s) {
+  vtkNew<vtkStringArray> evaluation;
+  evaluation->SetName("evaluation");
+  evaluation->InsertNextValue(s.far_field_tolerance > 0
+                                  ? "far-field approximation: patches within far_field_tolerance of the exact field"
+                                  : "exact");
+  data->AddArray(evaluation);
+  vtkNew<vtkDoubleArray> tolerance;
+  tolerance->SetName("far_field_tolerance");
+  tolerance->InsertNextValue(s.far_field_tolerance);
+  data->AddArray(tolerance);
 }
 
 void add_arrays(vtkPointData* data, const FieldSamples& s) {
@@ -79,6 +97,7 @@ vtkNew<vtkUnstructuredGrid> unstructured(const FieldSamples& s) {
   grid->SetPoints(points);
   grid->SetCells(g.dimension == 2 ? VTK_QUAD : VTK_HEXAHEDRON, cells);
   add_arrays(grid->GetPointData(), s);
+  add_provenance(grid->GetFieldData(), s);
   return grid;
 }
 
@@ -89,6 +108,7 @@ vtkNew<vtkImageData> image(const FieldSamples& s) {
   img->SetOrigin(g.lo[0], g.lo[1], g.dimension == 3 ? g.lo[2] : 0.0);
   img->SetSpacing(g.spacing(0), g.spacing(1), g.dimension == 3 ? g.spacing(2) : 1.0);
   add_arrays(img->GetPointData(), s);
+  add_provenance(img->GetFieldData(), s);
   return img;
 }
 

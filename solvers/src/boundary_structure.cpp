@@ -46,12 +46,16 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
   };
   bool has_robin = robin(problem.rest);
   for (const BoundaryPart& part : problem.parts) has_robin = has_robin || robin(part);
+  // No condition given for the rest beside weak and Dirichlet parts: the
+  // named parts claim the boundary, and omega_D is theirs alone.
+  s.rest_must_be_empty =
+      dirichlet_structure && !problem.rest_given && s.has_weak_parts && !dirichlet_fields.empty() && !rest_weak;
 
   if (!dirichlet_structure) {
     s.pure_neumann = rest_weak && dirichlet_fields.empty() && !has_robin;
     s.dirichlet_weight = 1.0;
     s.dirichlet_extension = 0.0;
-  } else if (!rest_weak) {
+  } else if (!rest_weak && !s.rest_must_be_empty) {
     if (s.has_weak_parts)
       throw std::invalid_argument(
           "with Neumann or Robin parts the default boundary condition must not be Dirichlet: name the Dirichlet "

@@ -204,14 +204,15 @@ struct AssemblyTapes {
 /// Which boundary condition holds at a surface point (the part whose
 /// selector is nearest zero, or the rest) and how it enters: by the
 /// boundary integrals of a Neumann or Robin part, by Nitsche's terms of a
-/// weak Dirichlet part, or not at all (a Dirichlet part in the trial functions).
+/// weak Dirichlet part, or not at all (a Dirichlet part in the trial
+/// functions). Unclaimed: on no named part, where the rest must be empty.
 struct SurfaceData {
-  enum class Role { None, NeumannRobin, Nitsche } role = Role::None;
+  enum class Role { None, NeumannRobin, Nitsche, Unclaimed } role = Role::None;
   double beta = 0.0, flux = 0.0, value = 0.0;
 };
 
 SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>& eval, double tolerance,
-                         bool weak_dirichlet) {
+                         bool weak_dirichlet, bool rest_must_be_empty) {
   const std::size_t parts = problem.parts.size();
   std::size_t nearest = parts;
   double distance = tolerance;
@@ -222,6 +223,7 @@ SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>&
       nearest = k;
     }
   }
+  if (nearest == parts && rest_must_be_empty) return {SurfaceData::Role::Unclaimed};
   const BoundaryPart& part = nearest < parts ? problem.parts[nearest] : problem.rest;
   const std::size_t data = parts + 3 * nearest;
   if (part.kind != BoundaryKind::Dirichlet)
@@ -764,7 +766,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   std::vector<double> mean_load(pure_neumann ? relevant : 0, 0.0);
   std::vector<double> second_mean_load(pure_neumann && second ? relevant : 0, 0.0);
   double data_size = 0.0;
-  double offset_mean = 0.0;  // (u0, 1), pure Neumann only: the structure's u0 = -V h / k is not 0
+  double offset_mean = 0.0;                        // (u0, 1), pure Neumann only: the structure's u0 = -V h / k is not 0
+  std::optional<std::array<double, D>> unclaimed;  // a surface point on no named part, where the rest must be empty
   const int local_count = grid.local_count();
   // Local trial functions per cell: P's, then (second function) Q's.
   const int local_rows = second ? 2 * local_count : local_count;
@@ -809,6 +812,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     std::vector<double> own_second_load(second_load.size(), 0.0), own_second_mean(second_mean_load.size(), 0.0);
     Eigen::VectorXd mean_rhs(local_rows);
     double own_data_size = 0.0, own_offset_mean = 0.0;
+    std::optional<std::array<double, D>> own_unclaimed;  // a surface point on no named part, if any
     // 3D inside cells: stiffness by sum factorization, from these per-point coefficients.
     TensorCellStiffness tensor(n, inside_points, grid.h);
     std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
@@ -926,8 +930,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       }
       for (const auto& s : surface[k]) {
         surface_eval.evaluate(s.x.data());
-        const SurfaceData data = surface_data(problem, surface_eval, selector_tolerance, weak_dirichlet);
-        if (data.role == SurfaceData::Role::None) continue;
+        const SurfaceData data =
+            surface_data(problem, surface_eval, selector_tolerance, weak_dirichlet, structure.rest_must_be_empty);
+        if (data.role == SurfaceData::Role::Unclaimed && !own_unclaimed) own_unclaimed = s.x;
+        if (data.role == SurfaceData::Role::None || data.role == SurfaceData::Role::Unclaimed) continue;
         if (data.role == SurfaceData::Role::Nitsche) {
           coefficient_eval.evaluate(s.x.data());
           add_nitsche_terms<D>(grid, cell, s, coefficient_eval.result(0), data.value, nitsche_weight, local, stiffness,
@@ -996,8 +1002,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       for (std::size_t i = 0; i < second_mean_load.size(); ++i) second_mean_load[i] += own_second_mean[i];
       data_size += own_data_size;
       offset_mean += own_offset_mean;
+      if (own_unclaimed && !unclaimed) unclaimed = own_unclaimed;
     }
   }
+  if (unclaimed)
+    throw std::invalid_argument(
+        "the boundary at " + point_text<D>(*unclaimed) +
+        " belongs to no named part, and the problem gives no default condition: name that part, or give a "
+        "\"default\" (with --dirichlet structure beside Neumann or Robin parts, the default must be one of those)");
   Eigen::SparseMatrix<double> system = extended_system(basis, band);  // lower triangle
   band = std::vector<double>();
   const Eigen::SparseMatrix<double>& E = basis.extension;

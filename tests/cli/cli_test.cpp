@@ -3,8 +3,10 @@
 // gives a message naming the file and place, and a non-zero exit.
 
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
@@ -215,6 +217,51 @@ TEST(CliGeometry, GeoJsonFieldAndInfoReportTheProjection) {
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("azimuthal equidistant"), std::string::npos) << info.output;
   EXPECT_NE(info.output.find("certified well-formed"), std::string::npos) << info.output;
+}
+
+// sage field approximates the far field by default, says so, and records
+// it in the file; --exact evaluates exactly. Both agree within the stated
+// tolerance and in sign.
+TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
+  const std::string lake = shared_data("gis/lake_vanern_se_osm_EPSG32633.geojson");
+  struct Sampled {
+    std::string evaluation;
+    double tolerance = -1;
+    std::vector<double> omega;
+  };
+  auto sample = [&](const std::string& flags, const std::string& expected_line) {
+    const fs::path out = scratch("lake" + std::to_string(flags.size()) + ".vtu");
+    const Result r = run("field " + lake + " -o " + out.string() + " --grid 60x60" + flags);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(expected_line), std::string::npos) << r.output;
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(out.c_str());
+    reader->Update();
+    Sampled s;
+    vtkFieldData* field = reader->GetOutput()->GetFieldData();
+    if (auto* e = vtkStringArray::SafeDownCast(field->GetAbstractArray("evaluation"))) s.evaluation = e->GetValue(0);
+    if (vtkDataArray* t = field->GetArray("far_field_tolerance")) s.tolerance = t->GetTuple1(0);
+    vtkDataArray* omega = reader->GetOutput()->GetPointData()->GetArray("omega");
+    for (vtkIdType i = 0; omega && i < omega->GetNumberOfTuples(); ++i) s.omega.push_back(omega->GetTuple1(i));
+    return s;
+  };
+  const Sampled approximate = sample("", "far-field approximation: values within 1e-10 of the grid box's diagonal");
+  const Sampled exact = sample(" --exact", "exact evaluation");
+  EXPECT_NE(approximate.evaluation.find("far-field"), std::string::npos);
+  EXPECT_EQ(exact.evaluation, "exact");
+  EXPECT_EQ(exact.tolerance, 0.0);
+  ASSERT_GT(approximate.tolerance, 0.0);
+  ASSERT_EQ(approximate.omega.size(), 3600u);
+  ASSERT_EQ(exact.omega.size(), 3600u);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < exact.omega.size(); ++i) {
+    EXPECT_LE(std::abs(approximate.omega[i] - exact.omega[i]), approximate.tolerance) << "point " << i;
+    EXPECT_EQ(approximate.omega[i] > 0, exact.omega[i] > 0) << "point " << i;
+    differ += approximate.omega[i] != exact.omega[i];
+  }
+  EXPECT_GT(differ, 0u);  // the patches were used
+  expect_failure("field " + lake + " -o " + scratch("x.vtu").string() + " --exact --tolerance 1e-9",
+                 {"--exact or --tolerance"});
 }
 
 TEST(CliGeometry, ShapefileWhereAndBrep) {

@@ -38,8 +38,8 @@ TEST(CliSolve, DiskExampleReachesItsExactSolution) {
   // The Dirichlet structure: u / omega is smooth here, and 16 cells reach
   // 1e-3 pointwise (weak route below).
   const fs::path out = scratch("solve_disk.vtu");
-  const Result r =
-      run("solve " + problems("disk.json") + " -o " + out.string() + " --degree 3 --cells 16 --dirichlet structure");
+  const Result r = run("solve " + problems("disk.json") + " -o " + out.string() +
+                       " --degree 3 --cells 16 --dirichlet structure --condition");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("relative errors: L2"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("condition estimate"), std::string::npos) << r.output;
@@ -81,10 +81,10 @@ double printed_l2(const Result& r) {
 TEST(CliSolve, DiskExampleByDefaultConvergesWithNitsche) {
   // No flags: Dirichlet conditions by Nitsche's method, said in the
   // summary, and the error falls at degree 3's rate (16 -> 32 cells).
-  const Result coarse = run("solve " + problems("disk.json") + " -o " + scratch("disk16.vtu").string() +
-                            " --degree 3 --cells 16 --no-condition");
-  const Result fine = run("solve " + problems("disk.json") + " -o " + scratch("disk32.vtu").string() +
-                          " --degree 3 --cells 32 --no-condition");
+  const Result coarse =
+      run("solve " + problems("disk.json") + " -o " + scratch("disk16.vtu").string() + " --degree 3 --cells 16");
+  const Result fine =
+      run("solve " + problems("disk.json") + " -o " + scratch("disk32.vtu").string() + " --degree 3 --cells 32");
   ASSERT_EQ(coarse.exit_code, 0) << coarse.output;
   ASSERT_EQ(fine.exit_code, 0) << fine.output;
   EXPECT_NE(coarse.output.find("Dirichlet by weak (Nitsche)"), std::string::npos) << coarse.output;
@@ -106,17 +106,50 @@ TEST(CliSolve, NamedPartsWithWeakConditions) {
   EXPECT_GT(fs::file_size(points), 0u);
 }
 
+/// The largest |u_a - u_b| over two solutions' points inside the domain
+/// (the same grid; points of cut cells outside the domain left out).
+double largest_difference(const fs::path& a, const fs::path& b) {
+  vtkNew<vtkXMLUnstructuredGridReader> ra, rb;
+  ra->SetFileName(a.c_str());
+  ra->Update();
+  rb->SetFileName(b.c_str());
+  rb->Update();
+  vtkDataArray* ua = ra->GetOutput()->GetPointData()->GetArray("u");
+  vtkDataArray* ub = rb->GetOutput()->GetPointData()->GetArray("u");
+  vtkDataArray* omega = ra->GetOutput()->GetPointData()->GetArray("omega");
+  if (!ua || !ub || !omega || ua->GetNumberOfTuples() != ub->GetNumberOfTuples()) return 1e300;
+  double worst = 0.0;
+  for (vtkIdType i = 0; i < ua->GetNumberOfTuples(); ++i)
+    if (omega->GetTuple1(i) > 0.0) worst = std::max(worst, std::abs(ua->GetTuple1(i) - ub->GetTuple1(i)));
+  return worst;
+}
+
+// Every part named, no "default": both Dirichlet routes pose the problem
+// (the structure from the named Dirichlet parts alone) and agree.
+TEST(CliSolve, AllPartsNamedNeedNoDefault) {
+  const std::string problem = disk_problem(
+      "all_named.json", R"({ "rim": { "type": "dirichlet", "value": "x" }, "hole": { "type": "robin", "beta": 2 } })");
+  const fs::path weak = scratch("all_named_weak.vtu"), structure = scratch("all_named_structure.vtu");
+  const std::string common = " --degree 3 --cells 24 --grid 41x41";
+  const Result a = run("solve " + problem + " -o " + weak.string() + common);
+  const Result b = run("solve " + problem + " -o " + structure.string() + common + " --dirichlet structure");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(b.output.find("Dirichlet by structure"), std::string::npos) << b.output;
+  EXPECT_LT(largest_difference(weak, structure), 1e-4);
+}
+
 TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
   const std::string boundary =
       R"({ "rim": { "type": "dirichlet", "value": 0 }, "hole": { "type": "robin", "beta": 2, "flux": "x" },
            "default": { "type": "robin", "beta": 2, "flux": "x" } })";
   const std::string plain = disk_problem("solve_structure.json", boundary);
-  Result r = run("solve " + plain + " -o " + scratch("structure.vtu").string() +
-                 " --degree 2 --cells 16 --no-condition --robin structure");
+  Result r =
+      run("solve " + plain + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --robin structure");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
   const std::string keyed = disk_problem("solve_structure_key.json", boundary, R"(, "robin": "structure")");
-  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --no-condition");
+  r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("structure Robin/Neumann route"), std::string::npos) << r.output;
   r = run("solve " + keyed + " -o " + scratch("structure.vtu").string() + " --degree 2 --cells 16 --robin weak");
@@ -140,7 +173,7 @@ TEST(CliSolve, RobinBandFlagsReachTheStructure) {
   // differ (they are the same only on the boundary).
   const std::string problem = disk_problem("solve_band.json", R"({ "rim": { "type": "dirichlet", "value": 0 },
       "hole": { "type": "robin", "beta": 2, "flux": "x" }, "default": { "type": "robin", "beta": 2, "flux": "x" } })");
-  const std::string common = " --degree 2 --cells 16 --no-condition --robin structure";
+  const std::string common = " --degree 2 --cells 16 --robin structure";
   const fs::path cut = scratch("band_cut.vtu"), global = scratch("band_global.vtu");
   Result r = run("solve " + problem + " -o " + cut.string() + common + " --robin-band 0.5 --robin-band-power 4");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -180,8 +213,8 @@ TEST(CliSolve, CompatiblePureNeumannIsSolved) {
 }
 
 TEST(CliSolve, PlateExampleRuns) {
-  const Result r = run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() +
-                       " --degree 2 --cells 24 --no-condition");
+  const Result r =
+      run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() + " --degree 2 --cells 24");
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
@@ -266,7 +299,7 @@ TEST(CliSolve, LakeWithIslandsAsTheDomain) {
   const std::string lake = std::string(SAGE_SHARED_DIR) + "/data/gis/lake_vanern_se_osm_EPSG32633.geojson";
   const std::string problem = write_file("solve_lake.json", R"({ "domain": ")" + lake + R"(", "source": 1 })");
   const fs::path out = scratch("solve_lake.vtu");
-  const Result r = run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 48 --no-condition");
+  const Result r = run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 48");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("output omega: far-field patches"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("sign-masked"), std::string::npos) << r.output;
@@ -307,10 +340,10 @@ TEST(CliSolve, BadInputNamesFileAndPlace) {
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(problem), std::string::npos) << r.output;
   }
-  // A Dirichlet default beside a Neumann part: posed by Nitsche's method,
-  // refused by the structure (omega_D would need the default's own field).
-  const std::string mixed =
-      disk_problem("mixed_default.json", R"({ "rim": { "type": "dirichlet" }, "hole": { "type": "neumann" } })", "");
+  // A Dirichlet default given beside a Neumann part: posed by Nitsche's
+  // method, refused by the structure (omega_D would need the default's own field).
+  const std::string mixed = disk_problem(
+      "mixed_default.json", R"({ "hole": { "type": "neumann" }, "default": { "type": "dirichlet", "value": 0 } })", "");
   const Result weak = run("solve " + mixed + " -o " + scratch("mixed.vtu").string() + " --cells 8");
   EXPECT_EQ(weak.exit_code, 0) << weak.output;
   const Result structure =
@@ -318,6 +351,16 @@ TEST(CliSolve, BadInputNamesFileAndPlace) {
   EXPECT_EQ(structure.exit_code, 1) << structure.output;
   EXPECT_NE(structure.output.find("the default boundary condition must not be Dirichlet"), std::string::npos)
       << structure.output;
+  // No default, and a named Dirichlet part that claims two points of the
+  // rim only: the structure cannot know the rest's condition, and says where.
+  const std::string unclaimed =
+      disk_problem("unclaimed.json",
+                   R"({ "hole": { "type": "neumann" }, "line": { "type": "dirichlet", "selector": "x - 0.5" } })", "");
+  const Result open =
+      run("solve " + unclaimed + " -o " + scratch("open.vtu").string() + " --cells 8 --dirichlet structure");
+  EXPECT_EQ(open.exit_code, 1) << open.output;
+  EXPECT_NE(open.output.find("belongs to no named part"), std::string::npos) << open.output;
+  EXPECT_NE(open.output.find(unclaimed), std::string::npos) << open.output;
   const std::string malformed = write_file("bad_json.json", "{\n  \"domain\": \n}");
   const Result r = run("solve " + malformed + " -o " + scratch("bad.vtu").string());
   EXPECT_EQ(r.exit_code, 1);

@@ -116,6 +116,103 @@ TEST(GisReader, GreeceHasOneCrossingAndRepairFixesIt) {
   EXPECT_TRUE(noted);
 }
 
+/// Writes a GeoJSON without a "crs" member: WGS84 longitude/latitude.
+std::string write_lon_lat_geojson(const std::string& name, const std::string& geometry) {
+  const auto path = std::filesystem::temp_directory_path() / ("sage_gis_test_" + name + ".geojson");
+  std::ofstream(path) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},
+      "geometry": )" << geometry
+                      << "}]}";
+  return path.string();
+}
+
+// A multipolygon spanning the globe (parts near both poles and the
+// equator) whose holes touch their shells at a point in the middle of a
+// shell edge: valid in longitude/latitude, but the projected shell edge is
+// a chord, not the image of the parallel, so the holes cross it in the
+// plane where the field is built. --repair repairs in that plane.
+TEST(GisReader, RepairHappensInTheProjectedPlane) {
+  const std::string path = write_lon_lat_geojson("globe", R"({"type": "MultiPolygon", "coordinates": [
+      [[[0, 70], [40, 70], [40, 85], [0, 85], [0, 70]], [[20, 70], [25, 78], [15, 78], [20, 70]],
+       [[20, 85], [15, 80], [25, 80], [20, 85]]],
+      [[[0, 0], [10, 0], [5, 5], [10, 10], [0, 10], [5, 5], [0, 0]]],
+      [[[20, -85], [60, -85], [60, -70], [20, -70], [20, -85]], [[40, -70], [45, -78], [35, -78], [40, -70]],
+       [[40, -85], [35, -80], [45, -80], [40, -85]]]]})");
+  expect_fault(path, {"edges cross", "use --repair"});
+  LoadOptions repair;
+  repair.repair = true;
+  const Model m = load_gis(path, repair);
+  bool noted = false;
+  for (const auto& n : m.notes) noted = noted || n.find("repaired in the projected plane") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // Shells less holes, before and after repair: only the slivers beyond
+  // the projected chords differ (0.1% here); losing a part or a hole would
+  // change the area by 2% or more.
+  GisPolygons raw = read_gis_polygons(path, {});
+  GisPolygons repaired = read_gis_polygons(path, repair);
+  validate_polygons(repaired.polygons, path, true);
+  auto net_area = [](const PolygonSet& set) {
+    double a = 0;
+    for (const auto& p : set.polygons) {
+      a += std::abs(ring_area(p.outer));
+      for (const auto& h : p.holes) a -= std::abs(ring_area(h));
+    }
+    return a;
+  };
+  EXPECT_NEAR(net_area(repaired.polygons), net_area(raw.polygons), 5e-3 * net_area(raw.polygons));
+}
+
+// Faults left after --repair never suggest --repair again.
+TEST(GisValidation, FaultsAfterRepairSuggestLeavingTheFeatureOut) {
+  PolygonSet set;
+  PolygonWithHoles bowtie;
+  bowtie.outer.points = {{0, 0}, {2, 2}, {2, 0}, {0, 2}};
+  bowtie.outer.source_vertex = {0, 1, 2, 3};
+  set.polygons.push_back(bowtie);
+  for (const bool repaired : {false, true}) {
+    PolygonSet copy = set;
+    try {
+      validate_polygons(copy, "data.geojson", repaired);
+      FAIL() << "no error";
+    } catch (const ModelError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("edges cross"), std::string::npos) << what;
+      EXPECT_EQ(what.find("use --repair") != std::string::npos, !repaired) << what;
+      if (repaired) EXPECT_NE(what.find("--feature"), std::string::npos) << what;
+    }
+  }
+}
+
+// A shapefile without its .prj: coordinates within longitude/latitude
+// ranges give a warning; --crs names the system and the data is projected.
+TEST(GisReader, MissingCoordinateSystemWarnsAndCrsOptionProjects) {
+  const auto folder = std::filesystem::temp_directory_path() / "sage_gis_test_noprj";
+  std::filesystem::create_directories(folder);
+  for (const char* ext : {".shp", ".shx", ".dbf"})
+    std::filesystem::copy_file(data(std::string("shapefile_nc/nc") + ext), folder / (std::string("nc") + ext),
+                               std::filesystem::copy_options::overwrite_existing);
+  const std::string path = (folder / "nc.shp").string();
+  LoadOptions ashe;
+  ashe.where = "NAME = 'Ashe'";
+  GisPolygons planar = read_gis_polygons(path, ashe);
+  ASSERT_EQ(planar.warnings.size(), 1u);
+  EXPECT_NE(planar.warnings[0].find("--crs EPSG:4326"), std::string::npos) << planar.warnings[0];
+  EXPECT_NE(planar.crs.find("assumed planar"), std::string::npos);
+  ashe.crs = "EPSG:4267";  // NAD27, what the missing .prj said
+  GisPolygons projected = read_gis_polygons(path, ashe);
+  EXPECT_TRUE(projected.warnings.empty());
+  EXPECT_NE(projected.crs.find("NAD27"), std::string::npos) << projected.crs;
+  EXPECT_NE(projected.crs.find("azimuthal equidistant"), std::string::npos) << projected.crs;
+  // The same county as read with its .prj: the same area (Ashe: 1,100 km^2).
+  LoadOptions with_prj;
+  with_prj.where = "NAME = 'Ashe'";
+  GisPolygons original = read_gis_polygons(data("shapefile_nc/nc.shp"), with_prj);
+  validate_polygons(projected.polygons, path);
+  validate_polygons(original.polygons, "nc.shp");
+  EXPECT_NEAR(area(projected.polygons), area(original.polygons), 1e-9 * area(original.polygons));
+  ashe.crs = "EPSG:99999";
+  expect_fault(path, {"--crs EPSG:99999", "PROJ does not know"}, ashe);
+}
+
 TEST(GisValidation, DuplicateAndCollinearVerticesAreRemovedAndOrientationFixed) {
   // Clockwise square with a repeated vertex and a collinear middle vertex.
   const auto path = write_geojson("clean", {polygon("[[0,0],[0,2],[0,2],[2,2],[2,1],[2,0],[0,0]]")});

@@ -51,6 +51,10 @@ struct Model {
   /// Facts for `sage info` and the field summary: projection used,
   /// validation findings and repairs, well-formedness certificate, ...
   std::vector<std::string> notes;
+  /// What the user should check before trusting the field (printed by the
+  /// command line as warnings): coordinates that look like degrees but come
+  /// without a coordinate reference system, say.
+  std::vector<std::string> warnings;
 };
 
 /// Options shared by every geometry source; each reads what applies to it.
@@ -69,6 +73,9 @@ struct LoadOptions {
   std::vector<long long> features;
   std::optional<std::string> where;
   std::optional<std::string> layer;
+  /// GIS: the coordinate reference system of the data (EPSG:XXXX, a PROJ
+  /// string or WKT), in place of the file's own or for files without one.
+  std::optional<std::string> crs;
   /// Polygons (CSG): certify well-formedness by interval arithmetic
   /// (well_formedness.hpp) and add the result to the notes.
   bool certify = false;

@@ -32,6 +32,8 @@ struct ValidationReport {
 };
 
 /// Cleans `polygons` in place and checks them; `source` names the file.
-ValidationReport validate_polygons(PolygonSet& polygons, const std::string& source);
+/// `repaired`: the polygons were already repaired (--repair), so faults
+/// suggest leaving features out rather than --repair.
+ValidationReport validate_polygons(PolygonSet& polygons, const std::string& source, bool repaired = false);
 
 }  // namespace sage::geometry

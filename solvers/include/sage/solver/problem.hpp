@@ -42,7 +42,13 @@ struct PoissonProblem {
   Expr conductivity = 1.0;             // k > 0
   Expr source = 0.0;                   // f
   std::vector<BoundaryPart> parts;
-  BoundaryPart rest;          // the boundary no part claims
+  BoundaryPart rest;  // the boundary no part claims
+  /// False when the problem gives no condition for the rest (a problem
+  /// file without "default"): the rest is then Dirichlet u = 0, except
+  /// with the Dirichlet structure beside Neumann or Robin parts, where the
+  /// named parts must claim the whole boundary (the solver checks that at
+  /// every surface point).
+  bool rest_given = true;
   std::optional<Expr> exact;  // exact solution, for error norms
   /// Overrides the Dirichlet extension g~ built from the parts' data (for
   /// tests and callers that have a better extension of the boundary data).
