@@ -19,14 +19,16 @@ int run_field(const std::vector<std::string>& args) {
       "MODEL: a JSON model, GIS vector data (.geojson, .shp, .gpkg, ...) or a mesh\n"
       "(.off, .stl, .obj, .ply).\n"
       "Samples the model's field and its derivatives on a regular grid and writes\n"
-      "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2).\n\n"
+      "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2;\n"
+      "omega alone for --order 0).\n\n"
       "Options");
   auto add = options.add_options();
   add("help,h", "show this help");
   add("output,o", po::value(&job.output_path)->required(), "output file, .vtu or .vti");
   add("grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)");
   add("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")");
-  add("order", po::value(&job.order)->default_value(1), "highest derivative order written (1 to 6)");
+  add("order", po::value(&job.order)->default_value(1),
+      "highest derivative order written (0 to 6; 0: omega only, for contouring)");
   add("rfunction", po::value(&rfunction),
       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
   add("tolerance", po::value(&job.tolerance)->default_value(kDefaultFarFieldTolerance, "1e-10"),

@@ -49,7 +49,7 @@ void add_source_options(boost::program_options::options_description& description
   add("crs", po::value(&text.crs),
       "GIS: the data's coordinate reference system, e.g. EPSG:4326 (any CRS PROJ knows),\n"
       "in place of the file's own or for files without one");
-  add("repair", po::bool_switch(&options.repair), "fix invalid geometry where that is safe (GEOS MakeValid)");
+  add("repair", po::bool_switch(&options.repair), "fix invalid geometry (GEOS MakeValid, in the projected plane)");
   add("orthogonalize", po::bool_switch(&options.orthogonalize), "B-rep: orthogonalize trimming at corners");
 }
 
@@ -106,8 +106,8 @@ Grid grid_for(const geometry::Model& model, const std::optional<std::string>& re
 FieldReport run_field_job(const FieldJob& job) {
   if (!output::is_supported_field_path(job.output_path))
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
-  if (job.order < 1 || job.order > kMaxSampleOrder)
-    throw UsageError{"--order must be from 1 to " + std::to_string(kMaxSampleOrder)};
+  if (job.order < 0 || job.order > kMaxSampleOrder)
+    throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
   if (!(job.tolerance >= 0 && job.tolerance < 1e-2))
     throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
@@ -129,7 +129,8 @@ FieldReport run_field_job(const FieldJob& job) {
   report.omega_min = *lo;
   report.omega_max = *hi;
   auto finite_at = [&samples](std::size_t i) {
-    if (!std::isfinite(samples.omega[i]) || !std::isfinite(samples.gradient_norm[i])) return false;
+    if (!std::isfinite(samples.omega[i])) return false;
+    if (!samples.gradient_norm.empty() && !std::isfinite(samples.gradient_norm[i])) return false;
     for (const DerivativeArray& d : samples.higher) {
       const std::size_t m = d.components.size();
       for (std::size_t c = 0; c < m; ++c)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace sage {
 
@@ -12,20 +13,24 @@ namespace {
 
 template <int N, int K>
 FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress, const Approximation* approximation) {
-  using T = Tuple<N, K>;
+  // Values only in doubles: the batch evaluator runs them in SIMD lanes.
+  using T = std::conditional_t<K == 0, double, Tuple<N, K>>;
   const std::size_t n = grid.size();
   FieldSamples s;
   s.grid = grid;
   s.order = K;
   s.far_field_tolerance = approximation ? approximation->tolerance : 0.0;
   s.omega.resize(n);
-  s.gradient.assign(3 * n, 0.0);
-  s.gradient_norm.resize(n);
+  if (K >= 1) {
+    s.gradient.assign(3 * n, 0.0);
+    s.gradient_norm.resize(n);
+  }
 
   // Layout positions of each order's partials, and their names.
   std::vector<std::vector<int>> positions(K + 1);
-  for (int i = 0; i < T::size; ++i) {
-    const auto& alpha = T::indices.index[i];
+  using Layout = Tuple<N, K>;
+  for (int i = 0; i < Layout::size; ++i) {
+    const auto& alpha = Layout::indices.index[i];
     const int k = order_of<N>(alpha);
     if (k < 2) continue;
     positions[k].push_back(i);
@@ -35,7 +40,7 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
     d.order = k;
     for (int i : positions[k]) {
       std::string name;
-      for (int v = 0; v < N; ++v) name.append(static_cast<std::size_t>(T::indices.index[i][v]), "xyz"[v]);
+      for (int v = 0; v < N; ++v) name.append(static_cast<std::size_t>(Layout::indices.index[i][v]), "xyz"[v]);
       d.components.push_back(name);
     }
     d.values.resize(n * d.components.size());
@@ -46,24 +51,28 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
       tape, grid,
       [&](std::size_t p, const auto& eval) {
         const T& t = eval.result();
-        s.omega[p] = t.value();
-        double norm2 = 0;
-        for (int v = 0; v < N; ++v) {
-          s.gradient[3 * p + v] = t.c[1 + v];
-          norm2 += t.c[1 + v] * t.c[1 + v];
-        }
-        s.gradient_norm[p] = std::sqrt(norm2);
-        for (int k = 2; k <= K; ++k) {
-          DerivativeArray& d = s.higher[k - 2];
-          const std::size_t m = d.components.size();
-          for (std::size_t c = 0; c < m; ++c) d.values[p * m + c] = t.derivative_at(positions[k][c]);
+        if constexpr (K == 0) {
+          s.omega[p] = t;
+        } else {
+          s.omega[p] = t.value();
+          double norm2 = 0;
+          for (int v = 0; v < N; ++v) {
+            s.gradient[3 * p + v] = t.c[1 + v];
+            norm2 += t.c[1 + v] * t.c[1 + v];
+          }
+          s.gradient_norm[p] = std::sqrt(norm2);
+          for (int k = 2; k <= K; ++k) {
+            DerivativeArray& d = s.higher[k - 2];
+            const std::size_t m = d.components.size();
+            for (std::size_t c = 0; c < m; ++c) d.values[p * m + c] = t.derivative_at(positions[k][c]);
+          }
         }
       },
       progress, approximation);
   return s;
 }
 
-template <int N, int K = 1>
+template <int N, int K = 0>
 FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progress& progress,
                       const Approximation* approximation) {
   if constexpr (K > kMaxSampleOrder) {
@@ -79,8 +88,8 @@ FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progr
 
 FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress,
                           const Approximation* approximation) {
-  if (order < 1 || order > kMaxSampleOrder)
-    throw std::invalid_argument("order must be from 1 to " + std::to_string(kMaxSampleOrder));
+  if (order < 0 || order > kMaxSampleOrder)
+    throw std::invalid_argument("order must be from 0 to " + std::to_string(kMaxSampleOrder));
   if (grid.dimension != tape.dimension()) throw std::invalid_argument("grid and tape dimensions differ");
   if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress, approximation);
   return dispatch<3>(tape, grid, order, progress, approximation);

@@ -52,6 +52,8 @@ void add_provenance(vtkFieldData* data, const FieldSamples& s) {
 
 void add_arrays(vtkPointData* data, const FieldSamples& s) {
   data->AddArray(make_array("omega", 1, s.omega));
+  data->SetActiveScalars("omega");
+  if (s.gradient.empty()) return;  // order 0: values only
   auto grad = make_array("grad_omega", 3, s.gradient);
   grad->SetComponentName(0, "x");
   grad->SetComponentName(1, "y");
@@ -64,7 +66,6 @@ void add_arrays(vtkPointData* data, const FieldSamples& s) {
       a->SetComponentName(static_cast<vtkIdType>(c), d.components[c].c_str());
     data->AddArray(a);
   }
-  data->SetActiveScalars("omega");
   data->SetActiveVectors("grad_omega");
 }
 

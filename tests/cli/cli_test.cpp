@@ -72,6 +72,37 @@ TEST(Cli, FieldRoundTripThroughVtk) {
   }
 }
 
+// --order 0 writes values only (for contouring), the same values as
+// --order 1 on the plate's R-function tree.
+TEST(Cli, OrderZeroWritesValuesOnly) {
+  struct Written {
+    std::vector<double> omega;
+    int arrays = 0;
+  };
+  auto sample = [](const std::string& order) {
+    const fs::path out = scratch("plate_order" + order + ".vtu");
+    const Result r =
+        run("field " + model("plate_with_holes.json") + " -o " + out.string() + " --grid 41x31 -q --order " + order);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(out.c_str());
+    reader->Update();
+    Written w;
+    vtkPointData* data = reader->GetOutput()->GetPointData();
+    w.arrays = data->GetNumberOfArrays();
+    if (vtkDataArray* omega = data->GetArray("omega"))
+      for (vtkIdType i = 0; i < omega->GetNumberOfTuples(); ++i) w.omega.push_back(omega->GetTuple1(i));
+    return w;
+  };
+  const Written zero = sample("0"), one = sample("1");
+  EXPECT_EQ(zero.arrays, 1);  // omega alone
+  EXPECT_EQ(one.arrays, 3);   // omega, grad_omega, grad_norm
+  ASSERT_EQ(zero.omega.size(), 41u * 31u);
+  ASSERT_EQ(one.omega.size(), zero.omega.size());
+  for (std::size_t i = 0; i < zero.omega.size(); ++i)
+    EXPECT_NEAR(zero.omega[i], one.omega[i], 1e-12 * (1 + std::abs(one.omega[i])));
+}
+
 TEST(Cli, SharpBoundedUnionHasItsLevelCOnTheCorner) {
   // G(X, Y) of the sharp bounded union with X = x, Y = y (issue 5): the
   // field G - C is 0 on the corner max(x, y) = C inside the transition zone
@@ -170,6 +201,7 @@ TEST(CliErrors, BadOptionValues) {
   expect_failure("field " + m + out + " --bounds 1,0,0,1", {"max must exceed"});
   expect_failure("field " + m + out + " --bounds 0,nan,0,1", {"bounds"});
   expect_failure("field " + m + out + " --order 9", {"--order"});
+  expect_failure("field " + m + out + " --order -1", {"--order"});
   expect_failure("field " + m + out + " --rfunction rp:5", {"--rfunction", "even"});
   expect_failure("field " + m + " -o " + scratch("x.png").string(), {".vtu or .vti"});
 }

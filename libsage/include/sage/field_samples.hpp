@@ -3,8 +3,8 @@
 //
 // omega:     value at each point
 // gradient:  3 components per point (z = 0 in 2D, so viewers can draw
-//            glyphs), in point order
-// gradient_norm: |grad omega|
+//            glyphs), in point order; empty at order 0 (values only)
+// gradient_norm: |grad omega|; empty at order 0
 // higher:    one array per order 2..K; components are the partials of that
 //            order in the graded layout of multi_index.hpp, named by the
 //            variables they differentiate ("xx", "xy", "yy", ...).
@@ -45,7 +45,7 @@ constexpr int kMaxSampleOrder = 6;
 /// polygons and meshes, values within 1e-10 of the diagonal, no sign lost.
 constexpr double kDefaultFarFieldTolerance = 1e-10;
 
-/// Evaluates root 0 of `tape` with tuples of `order` (1..kMaxSampleOrder)
+/// Evaluates root 0 of `tape` with tuples of `order` (0..kMaxSampleOrder)
 /// at every point of `grid`, on all cores: exactly (interval pruning keeps
 /// every bit), or with far-field patches when `approximation` is given
 /// with a positive tolerance (pruned_grid.hpp).
