@@ -788,6 +788,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   // cell, so their local B-splines and gradients at the rule's points are
   // the same too: tabulated once (point p, spline k at p * local_count + k).
   const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
+  // With a constant conductivity and no weight (w = 1: Nitsche's route and
+  // the weak route's Neumann problems), every inside cell has the same
+  // stiffness matrix: computed once per thread, then copied.
+  const bool same_inside_stiffness = !structured && problem.conductivity.is_constant() &&
+                                     structure.dirichlet_weight.is_constant() &&
+                                     structure.dirichlet_weight.constant_value() == 1.0;
 
 #pragma omp parallel
   {
@@ -815,6 +821,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     std::optional<std::array<double, D>> own_unclaimed;  // a surface point on no named part, if any
     // 3D inside cells: stiffness by sum factorization, from these per-point coefficients.
     TensorCellStiffness tensor(n, inside_points, grid.h);
+    Eigen::MatrixXd inside_stiffness;  // same_inside_stiffness: the first inside cell's, lower triangle
     std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
     std::array<std::vector<double>, 3> c1{c0, c0, c0};
 #pragma omp for schedule(dynamic, 8) nowait
@@ -823,7 +830,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       if (points.empty()) continue;
       const auto cell = grid.cell_index(candidates[k]);
       const bool tabulated = kinds[candidates[k]] == CellKind::Inside && points.size() == inside_table.points;
-      const bool factorized = D == 3 && tabulated && !structured;
+      const bool reused = same_inside_stiffness && tabulated && inside_stiffness.size() > 0;
+      const bool factorized = D == 3 && tabulated && !structured && !reused;
       const auto columns = static_cast<Eigen::Index>(points.size() * D);
       if (gradients.cols() < columns) gradients.resize(local_rows, columns);
       rhs.setZero();
@@ -908,7 +916,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         for (int a = 0; a < D; ++a) {
           const Eigen::Map<const Eigen::VectorXd> slopes(slope_data[a], local_count);
           rhs -= (q.weight * conductivity * gg[a] * w.value()) * slopes;
-          if (factorized) continue;
+          if (factorized || reused) continue;
           gradients.col(static_cast<Eigen::Index>(p * D + static_cast<std::size_t>(a))) =
               (scale * gw[a]) * values + (scale * w.value()) * slopes;
         }
@@ -922,12 +930,15 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         c0[p] = scale2 * slope2;
         c2[p] = scale2 * w.value() * w.value();
       }
-      if (factorized) {
+      if (reused) {
+        stiffness = inside_stiffness;
+      } else if (factorized) {
         tensor.compute(c0.data(), {c1[0].data(), c1[1].data(), c1[2].data()}, c2.data(), stiffness);
       } else {
         stiffness.setZero();
         stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(gradients.leftCols(columns));
       }
+      if (same_inside_stiffness && tabulated && !reused) inside_stiffness = stiffness;
       for (const auto& s : surface[k]) {
         surface_eval.evaluate(s.x.data());
         const SurfaceData data =
