@@ -2,9 +2,9 @@
 // gains: for bundled models, GIS data and a mesh, the field is sampled on
 // the default grid exactly and with the default tolerance (1e-10 of the
 // grid box's diagonal), on all cores, side by side in the same run (the
-// fastest of three alternating runs each). Prints both times, their ratio and the largest deviations over the whole grid:
-// values relative to the diagonal, wrong signs, gradients, and second and
-// third derivatives relative to their largest magnitude on the grid.
+// fastest of three alternating runs each). Prints both times, their ratio and the largest deviations over the whole
+// grid: values relative to the diagonal, wrong signs, gradients, and second and third derivatives relative to their
+// largest magnitude on the grid.
 //
 // Usage: far_field_bench [ORDER] [MODEL...]   (ORDER default 3; models
 //        default: examples/models/*.json, four GIS files of ../shared, joint.off)

@@ -1,6 +1,7 @@
-// sage demo [-o DIR]: the main job on bundled data. Samples every bundled
-// example model (some with several R-function systems, to compare) and
-// writes .vtu files for ParaView into DIR.
+// sage demo [-o DIR]: the main jobs on bundled data. Samples every bundled
+// example model (some with several R-function systems, to compare; a GIS
+// island among them), solves the bundled heat problems, and writes .vtu
+// files for ParaView into DIR.
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -40,8 +41,12 @@ const DemoRun kRuns[] = {
     {"plate_with_holes.json", "plate_ralpha05.vtu", "ralpha:0.5", 2},
     {"primitives_3d.json",    "primitives_3d.vtu", nullptr, 1},
     {"heart_normalized.json", "heart_normalized.vtu", nullptr, 1},
+    {"island_with_lake.geojson", "island_with_lake.vtu", nullptr, 1},
 };
 // clang-format on
+
+// Problems solved after the fields, from the problems folder beside the models.
+const char* const kProblems[] = {"plate_heat.json", "block_with_hole.json"};
 
 /// The folder of bundled models: $SAGE_DATA_DIR/models, the source tree
 /// (build tree runs), or <prefix>/share/sage/models next to the program.
@@ -64,7 +69,9 @@ int run_demo(const std::vector<std::string>& args) {
       "Usage: sage demo [-o DIR]\n"
       "Writes fields of the bundled example models (paper 004 figures 9, 12 and 13,\n"
       "a 2D plate under four R-function systems, 3D primitives, a normalized\n"
-      "formula) as .vtu files for ParaView.\n\nOptions");
+      "formula, an island with a lake from GeoJSON) and the solutions of two heat\n"
+      "problems (a 2D plate, a 3D block with a cooling channel) as .vtu files\n"
+      "for ParaView.\n\nOptions");
   options.add_options()("help,h", "show this help")("output,o", po::value(&out_dir),
                                                     "output folder (default sage-demo)");
   po::variables_map vm;
@@ -95,8 +102,17 @@ int run_demo(const std::vector<std::string>& args) {
               << " points, order " << run.order << ", omega in [" << std::setprecision(4) << r.omega_min << ", "
               << r.omega_max << "], " << std::setprecision(3) << r.seconds_sampling << " s\n";
   }
-  std::cout << "wrote " << std::size(kRuns) << " files to " << fs::absolute(out_dir).lexically_normal().string()
-            << "\nopen them in ParaView (File > Open); color by omega, grad_norm or the d<k>_omega arrays.\n";
+  const fs::path problems = models / ".." / "problems";
+  for (const char* problem : kProblems) {
+    const std::string output = (fs::path(out_dir) / (fs::path(problem).stem().string() + ".vtu")).string();
+    std::cout << "  solving " << problem << ":\n";
+    const int status = run_solve({(problems / problem).lexically_normal().string(), "-o", output});
+    if (status != 0) return status;
+  }
+  std::cout << "wrote " << std::size(kRuns) + std::size(kProblems) << " files to "
+            << fs::absolute(out_dir).lexically_normal().string()
+            << "\nopen them in ParaView (File > Open); color fields by omega, grad_norm or d<k>_omega, "
+               "solutions by u.\n";
   return 0;
 }
 

@@ -37,7 +37,7 @@ int run_field(const std::vector<std::string>& args) {
       "box's diagonal (0: exact)");
   add("exact",
       "evaluate the whole field at every point (as --tolerance 0;\n"
-      "slower on polygons and meshes by 4 to 20 times)");
+      "slower on polygons and meshes by 10 to 25 times)");
   add("quiet,q", "no progress or summary");
   SourceOptionText source_text;
   add_source_options(options, job.load, source_text);

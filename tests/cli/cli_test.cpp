@@ -156,7 +156,9 @@ TEST(Cli, DemoWritesEveryFile) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
-  EXPECT_GE(files, 10);
+  EXPECT_EQ(files, 15);  // 13 fields and 2 solutions
+  EXPECT_TRUE(fs::exists(dir / "island_with_lake.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "block_with_hole.vtu"));
 }
 
 // ---- bad input: message names the file and place, exit code non-zero ----------

@@ -41,7 +41,7 @@ constexpr int kMaxSampleOrder = 6;
 
 /// The far-field tolerance `sage field` samples with unless told
 /// otherwise, as a fraction of the grid box's diagonal. far_field_bench
-/// measures it: never slower than exact sampling, 4 to 20 times faster on
+/// measures it: never slower than exact sampling, 10 to 25 times faster on
 /// polygons and meshes, values within 1e-10 of the diagonal, no sign lost.
 constexpr double kDefaultFarFieldTolerance = 1e-10;
 
