@@ -806,11 +806,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     std::vector<long long> rows(static_cast<std::size_t>(local_count));
     // Each thread adds into its own band (no atomics), summed below; the
     // first thread adds into `band` itself (one thread: no copy at all).
+    // Cells go to threads in a fixed pattern and the sums are taken in
+    // thread order, so the same run gives the same bits every time.
 #ifdef _OPENMP
-    const bool first_thread = omp_get_thread_num() == 0;
+    const int thread = omp_get_thread_num(), threads = omp_get_num_threads();
 #else
-    const bool first_thread = true;
+    const int thread = 0, threads = 1;
 #endif
+    const bool first_thread = thread == 0;
     std::vector<double> own_band_storage(first_thread ? 0 : band.size(), 0.0);
     std::vector<double>& own_band = first_thread ? band : own_band_storage;
     std::vector<double> own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
@@ -824,7 +827,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     Eigen::MatrixXd inside_stiffness;  // same_inside_stiffness: the first inside cell's, lower triangle
     std::vector<double> c0(static_cast<std::size_t>(tensor.point_count())), c2(c0.size());
     std::array<std::vector<double>, 3> c1{c0, c0, c0};
-#pragma omp for schedule(dynamic, 8) nowait
+#pragma omp for schedule(static, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto& points = volume[k];
       if (points.empty()) continue;
@@ -998,9 +1001,9 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         }
       }
     }
+    for (int turn = 0; turn < threads; ++turn) {
 #pragma omp barrier
-#pragma omp critical
-    {
+      if (turn != thread) continue;
       if (!first_thread)
         for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];

@@ -14,6 +14,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -137,6 +140,28 @@ TEST(CliSolve, AllPartsNamedNeedNoDefault) {
   ASSERT_EQ(b.exit_code, 0) << b.output;
   EXPECT_NE(b.output.find("Dirichlet by structure"), std::string::npos) << b.output;
   EXPECT_LT(largest_difference(weak, structure), 1e-4);
+}
+
+// The same problem on several threads gives the same file, byte for byte
+// (cells go to threads in a fixed pattern, sums are taken in thread order).
+TEST(CliSolve, SolutionsAreReproducibleOnSeveralThreads) {
+  const char* before = std::getenv("OMP_NUM_THREADS");
+  const std::string saved = before ? before : "";
+  setenv("OMP_NUM_THREADS", "3", 1);
+  const fs::path a = scratch("repro_a.vtu"), b = scratch("repro_b.vtu");
+  const Result ra = run("solve " + problems("plate_heat.json") + " -o " + a.string() + " -q");
+  const Result rb = run("solve " + problems("plate_heat.json") + " -o " + b.string() + " -q");
+  if (before)
+    setenv("OMP_NUM_THREADS", saved.c_str(), 1);
+  else
+    unsetenv("OMP_NUM_THREADS");
+  ASSERT_EQ(ra.exit_code, 0) << ra.output;
+  ASSERT_EQ(rb.exit_code, 0) << rb.output;
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(fa)), std::istreambuf_iterator<char>());
+  const std::string bytes_b((std::istreambuf_iterator<char>(fb)), std::istreambuf_iterator<char>());
+  EXPECT_GT(bytes_a.size(), 1000u);
+  EXPECT_TRUE(bytes_a == bytes_b);
 }
 
 TEST(CliSolve, RobinStructureRouteFromFlagOrFile) {
