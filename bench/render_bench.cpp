@@ -12,7 +12,7 @@
 
 #include <sage/geometry/model.hpp>
 #include <sage/primitives.hpp>
-#include <sage/render/scene.hpp>
+#include <sage/render/solid.hpp>
 
 #include <omp.h>
 

@@ -6,7 +6,8 @@
 
 #include <sage/grid.hpp>
 #include <sage/output/png_writer.hpp>
-#include <sage/render/scene.hpp>
+#include <sage/render/field_map.hpp>
+#include <sage/render/solid.hpp>
 
 #include <boost/program_options.hpp>
 

@@ -12,18 +12,8 @@
 
 #include <cmath>
 #include <map>
-#include <numeric>
 
 namespace sage::geometry::mesh {
-
-namespace {
-
-std::size_t find(std::vector<std::size_t>& parent, std::size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
-}  // namespace
 
 FacePlane face_plane(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                      const std::vector<std::size_t>& group) {
@@ -51,8 +41,7 @@ std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std:
   for (std::size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) face_of_edge[{triangles[f][k], triangles[f][(k + 1) % 3]}] = f;
 
-  std::vector<std::size_t> parent(nf);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets planes_of_faces(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     const Triangle& t = triangles[f];
     for (int k = 0; k < 3; ++k) {
@@ -69,7 +58,7 @@ std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std:
           reason = "edge (" + std::to_string(u) + ", " + std::to_string(v) + ") between triangles " +
                    std::to_string(f) + " and " + std::to_string(it->second) + " is concave";
           return std::nullopt;
-        case CGAL::COPLANAR: parent[find(parent, f)] = find(parent, it->second); break;
+        case CGAL::COPLANAR: planes_of_faces.unite(f, it->second); break;
         default: break;
       }
     }
@@ -79,7 +68,7 @@ std::optional<ConvexCsg> convex_csg(const std::vector<Point>& points, const std:
   ConvexCsg out;
   std::map<std::size_t, std::size_t> plane_of_root;
   for (std::size_t f = 0; f < nf; ++f) {
-    const std::size_t r = find(parent, f);
+    const std::size_t r = planes_of_faces.find(f);
     const auto [it, fresh] = plane_of_root.emplace(r, out.planes.size());
     if (fresh) out.planes.emplace_back();
     out.planes[it->second].push_back(f);

@@ -41,11 +41,6 @@ namespace sage::geometry::mesh {
 
 namespace {
 
-std::size_t find(std::vector<std::size_t>& parent, std::size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
-
 std::uint64_t edge_key(std::size_t a, std::size_t b) {
   if (a > b) std::swap(a, b);
   return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint64_t>(b);
@@ -95,19 +90,18 @@ class Decomposition {
   // the rounded plane, confirmed exactly.
   void group_planes() {
     const std::size_t nf = triangles_.size();
-    std::vector<std::size_t> parent(nf);
-    std::iota(parent.begin(), parent.end(), 0);
+    DisjointSets coplanar(nf);
     std::unordered_map<std::uint64_t, std::vector<std::size_t>> faces_of_edge;
     for (std::size_t f = 0; f < nf; ++f)
       for (int k = 0; k < 3; ++k) faces_of_edge[edge_key(triangles_[f][k], triangles_[f][(k + 1) % 3])].push_back(f);
     for (const auto& [key, fs] : faces_of_edge)
       for (std::size_t i = 1; i < fs.size(); ++i)
-        if (same_plane(fs[0], fs[i])) parent[find(parent, fs[i])] = find(parent, fs[0]);
+        if (same_plane(fs[0], fs[i])) coplanar.unite(fs[i], fs[0]);
     double scale = 0;
     for (const Point& p : points_) scale = std::max({scale, std::abs(p.x()), std::abs(p.y()), std::abs(p.z())});
     std::map<std::array<long long, 4>, std::vector<std::size_t>> roots_of_key;
     for (std::size_t f = 0; f < nf; ++f) {
-      if (find(parent, f) != f) continue;
+      if (coplanar.find(f) != f) continue;
       const auto n = unit_normal(f);
       const Point& a = points_[triangles_[f][0]];
       const double d = (n[0] * a.x() + n[1] * a.y() + n[2] * a.z()) / (scale > 0 ? scale : 1);
@@ -117,7 +111,7 @@ class Decomposition {
       bool merged = false;
       for (std::size_t r : candidates)
         if (same_plane(r, f)) {
-          parent[f] = r;
+          coplanar.unite(f, r);
           merged = true;
           break;
         }
@@ -126,7 +120,7 @@ class Decomposition {
     plane_of_.assign(nf, 0);
     std::map<std::size_t, std::size_t> group_of_root;
     for (std::size_t f = 0; f < nf; ++f) {
-      const auto [it, fresh] = group_of_root.emplace(find(parent, f), out_.planes.size());
+      const auto [it, fresh] = group_of_root.emplace(coplanar.find(f), out_.planes.size());
       if (fresh) out_.planes.emplace_back();
       out_.planes[it->second].push_back(f);
       plane_of_[f] = it->second;
@@ -200,8 +194,7 @@ class Decomposition {
 
     // Hull facets grouped by plane; one representative triangle each.
     std::vector<SurfaceMesh::Face_index> hull_faces(hull.faces().begin(), hull.faces().end());
-    std::vector<std::size_t> parent(hull_faces.size());
-    std::iota(parent.begin(), parent.end(), 0);
+    DisjointSets hull_planes(hull_faces.size());
     auto facet_points = [&](SurfaceMesh::Face_index f) {
       std::array<Point, 3> p;
       int k = 0;
@@ -214,14 +207,15 @@ class Decomposition {
         const auto g = hull.face(hull.opposite(h));
         const Point far = hull.point(hull.target(hull.next(hull.opposite(h))));
         if (CGAL::orientation(p[0], p[1], p[2], far) == CGAL::COPLANAR)
-          parent[find(parent, i)] = find(parent, static_cast<std::size_t>(g.idx()));
+          hull_planes.unite(i, static_cast<std::size_t>(g.idx()));
       }
     }
     std::vector<std::array<Point, 3>> planes;
     {
       std::map<std::size_t, std::size_t> index_of_root;
       for (std::size_t i = 0; i < hull_faces.size(); ++i)
-        if (index_of_root.emplace(find(parent, i), planes.size()).second) planes.push_back(facet_points(hull_faces[i]));
+        if (index_of_root.emplace(hull_planes.find(i), planes.size()).second)
+          planes.push_back(facet_points(hull_faces[i]));
     }
 
     // The hull planes through each vertex, and a vertex strictly inside each.
@@ -306,8 +300,7 @@ class Decomposition {
 
     // Pockets: edge-connected patches of pocket faces, not joined across
     // edges that lie on the hull (two deficiencies meet there only).
-    std::vector<std::size_t> link(pocket.size());
-    std::iota(link.begin(), link.end(), 0);
+    DisjointSets link(pocket.size());
     std::unordered_map<std::uint64_t, std::size_t> first_of_edge;
     for (std::size_t i = 0; i < pocket.size(); ++i) {
       const Triangle& t = triangles_[pocket[i]];
@@ -315,11 +308,11 @@ class Decomposition {
         const std::size_t a = t[k], b = t[(k + 1) % 3];
         if (share(planes_of(a), planes_of(b), planes_of(b), nullptr)) continue;
         const auto [it, fresh] = first_of_edge.emplace(edge_key(a, b), i);
-        if (!fresh) link[find(link, i)] = find(link, it->second);
+        if (!fresh) link.unite(i, it->second);
       }
     }
     std::map<std::size_t, std::vector<std::size_t>> patches;
-    for (std::size_t i = 0; i < pocket.size(); ++i) patches[find(link, i)].push_back(pocket[i]);
+    for (std::size_t i = 0; i < pocket.size(); ++i) patches[link.find(i)].push_back(pocket[i]);
     std::vector<Expr> children;
     for (const auto& [root, patch] : patches) {
       std::unordered_map<std::size_t, std::vector<std::size_t>> child_planes;

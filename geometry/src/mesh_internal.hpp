@@ -30,6 +30,21 @@ using Point = Kernel::Point_3;
 using SurfaceMesh = CGAL::Surface_mesh<Point>;
 using Triangle = std::array<std::size_t, 3>;
 
+/// Union-find over 0..n-1 with path halving: faces merged across shared
+/// edges or planes, corners of one vertex, pocket patches.
+struct DisjointSets {
+  std::vector<std::size_t> parent;
+  explicit DisjointSets(std::size_t n) : parent(n) {
+    for (std::size_t i = 0; i < n; ++i) parent[i] = i;
+  }
+  std::size_t find(std::size_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  }
+  /// Puts a's set under b's root.
+  void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
+};
+
 /// A triangle soup read from a file. Polygons with more than three vertices
 /// are triangulated; origin[i] is the index, in the file, of the face that
 /// triangle i comes from (for messages).

@@ -10,17 +10,11 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <numeric>
 #include <unordered_map>
 
 namespace sage::geometry::mesh {
 
 namespace {
-
-std::size_t find(std::vector<std::size_t>& parent, std::size_t i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
-}
 
 struct Shell {
   std::vector<std::size_t> triangles;  // in the soup
@@ -35,21 +29,20 @@ struct Shell {
 std::optional<ShellsCsg> shells_csg(const std::vector<Point>& points, const std::vector<Triangle>& triangles,
                                     const RSystem& system, int max_depth, std::string& reason) {
   const std::size_t nf = triangles.size();
-  std::vector<std::size_t> parent(nf);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets connected(nf);
   std::map<std::pair<std::size_t, std::size_t>, std::size_t> first_of_edge;
   for (std::size_t f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) {
       const auto a = std::min(triangles[f][k], triangles[f][(k + 1) % 3]);
       const auto b = std::max(triangles[f][k], triangles[f][(k + 1) % 3]);
       const auto [it, fresh] = first_of_edge.emplace(std::make_pair(a, b), f);
-      if (!fresh) parent[find(parent, f)] = find(parent, it->second);
+      if (!fresh) connected.unite(f, it->second);
     }
   std::vector<Shell> shells;
   {
     std::map<std::size_t, std::size_t> index_of_root;
     for (std::size_t f = 0; f < nf; ++f) {
-      const auto [it, fresh] = index_of_root.emplace(find(parent, f), shells.size());
+      const auto [it, fresh] = index_of_root.emplace(connected.find(f), shells.size());
       if (fresh) shells.emplace_back();
       shells[it->second].triangles.push_back(f);
     }

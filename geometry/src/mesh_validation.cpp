@@ -24,16 +24,6 @@ std::string vertices_of(const Triangle& t) {
   return "vertices " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]);
 }
 
-struct DisjointSets {
-  std::vector<std::size_t> parent;
-  explicit DisjointSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  }
-  void unite(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
-};
-
 // One use of an undirected edge (lo, hi) by a face, from corner `local`
 // to the next corner; forward when it runs lo -> hi.
 struct EdgeUse {

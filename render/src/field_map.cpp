@@ -1,4 +1,8 @@
-#include <sage/render/scene.hpp>
+#include <sage/render/field_map.hpp>
+
+#include <sage/evaluator.hpp>
+#include <sage/tape.hpp>
+#include <sage/tuple.hpp>
 
 #include <algorithm>
 #include <cmath>

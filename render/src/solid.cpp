@@ -1,4 +1,4 @@
-#include <sage/render/scene.hpp>
+#include <sage/render/solid.hpp>
 
 #include <omp.h>
 

@@ -7,12 +7,12 @@
 
 namespace sage::solver {
 
-namespace {
-
 bool same_expression(const Expr& a, const Expr& b) {
   if (a.id() == b.id()) return true;
   return a.is_constant() && b.is_constant() && a.constant_value() == b.constant_value();
 }
+
+namespace {
 
 bool is_weak(const BoundaryPart& part) { return part.kind != BoundaryKind::Dirichlet; }
 

@@ -1,6 +1,7 @@
 #include <sage/derivative.hpp>
 #include <sage/normalize.hpp>
 #include <sage/rfunction.hpp>
+#include <sage/solver/boundary_structure.hpp>
 #include <sage/solver/trial_structure.hpp>
 
 #include <stdexcept>
@@ -8,11 +9,6 @@
 namespace sage::solver {
 
 namespace {
-
-bool same_expression(const Expr& a, const Expr& b) {
-  if (a.id() == b.id()) return true;
-  return a.is_constant() && b.is_constant() && a.constant_value() == b.constant_value();
-}
 
 /// The data of several parts as one field: the common expression, or
 /// transfinite interpolation between the parts.

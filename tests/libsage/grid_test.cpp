@@ -136,7 +136,7 @@ TEST(FieldSamples, MatchesDirectEvaluation3DAndComponentNames) {
   }
 }
 
-TEST(FieldSamples, OrderOneHasNoHigherArraysAndErrorsThrow) {
+TEST(FieldSamples, OrdersZeroAndOneHaveNoHigherArraysAndErrorsThrow) {
   const Tape tape(parse_formula("x + y", 2), 2);
   Grid g;
   g.dimension = 2;
@@ -144,8 +144,13 @@ TEST(FieldSamples, OrderOneHasNoHigherArraysAndErrorsThrow) {
   const FieldSamples s = sample_field(tape, g, 1);
   EXPECT_TRUE(s.higher.empty());
   for (double n : s.gradient_norm) EXPECT_NEAR(n, std::sqrt(2.0), 1e-15);
-  EXPECT_THROW(sample_field(tape, g, 0), std::invalid_argument);
+  EXPECT_THROW(sample_field(tape, g, -1), std::invalid_argument);
   EXPECT_THROW(sample_field(tape, g, kMaxSampleOrder + 1), std::invalid_argument);
+  // Order 0: values only, the same values.
+  const FieldSamples values = sample_field(tape, g, 0);
+  EXPECT_TRUE(values.gradient.empty() && values.gradient_norm.empty() && values.higher.empty());
+  ASSERT_EQ(values.omega.size(), s.omega.size());
+  for (std::size_t i = 0; i < s.omega.size(); ++i) EXPECT_EQ(values.omega[i], s.omega[i]);
   Grid g3 = g;
   g3.dimension = 3;
   g3.points = {2, 2, 2};

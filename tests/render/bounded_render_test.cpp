@@ -12,7 +12,7 @@
 #include <sage/bounded.hpp>
 #include <sage/primitives.hpp>
 #include <sage/render/ray_cast.hpp>
-#include <sage/render/scene.hpp>
+#include <sage/render/solid.hpp>
 
 #include <gtest/gtest.h>
 

@@ -21,6 +21,10 @@ struct BoundaryStructure {
   bool rest_must_be_empty = false;
 };
 
+/// True when a and b are the same expression node or equal constants
+/// (data given once for several parts).
+bool same_expression(const Expr& a, const Expr& b);
+
 /// `interior` is a point inside the domain, where the selectors' signs are
 /// read. With `dirichlet_structure` false (Dirichlet conditions by
 /// Nitsche's method) omega_D and g~ are left at 1 and 0. Throws

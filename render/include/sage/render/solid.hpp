@@ -1,16 +1,12 @@
 #pragma once
-// Pictures of fields. render_solid ray casts a 3D field (omega >= 0
-// inside) inside a box and shades the first hits: exact normals from
-// first-order tuples (the outward normal is -grad omega / |grad omega|),
-// ambient + diffuse + specular (Blinn-Phong) light from one direction,
-// optional shadows (a second ray towards the light). render_map draws a 2D
-// field as a colour map (warm inside, cool outside) with isolines and the
-// zero contour in bold; line widths come from |omega - level| / |grad
-// omega|, the distance to the line in pixels, so lines stay even where the
-// field is steep or flat. Both use all OpenMP threads.
+// Pictures of 3D fields: render_solid ray casts a field (omega >= 0 inside)
+// inside a box and shades the first hits: exact normals from first-order
+// tuples (the outward normal is -grad omega / |grad omega|), ambient +
+// diffuse + specular (Blinn-Phong) light from one direction, optional
+// shadows (a second ray towards the light). Uses all OpenMP threads.
 
 #include <sage/expression.hpp>
-#include <sage/output/png_writer.hpp>
+#include <sage/output/rgb_image.hpp>
 #include <sage/render/camera.hpp>
 #include <sage/render/ray_cast.hpp>
 
@@ -51,15 +47,5 @@ struct SolidPicture {
 
 /// Throws std::invalid_argument for an empty image or box.
 SolidPicture render_solid(const Expr& field, const Vec3& box_min, const Vec3& box_max, const SolidOptions& options);
-
-struct MapOptions {
-  int width = 800;
-  int height = 600;
-  int isolines = 10;  // about this many levels across the field's range
-};
-
-/// The 2D field over [box_min, box_max] (x, y), scaled to fit the image
-/// with square pixels. Throws std::invalid_argument for an empty image or box.
-output::RgbImage render_map(const Expr& field, const Vec3& box_min, const Vec3& box_max, const MapOptions& options);
 
 }  // namespace sage::render
