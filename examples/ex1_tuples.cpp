@@ -12,6 +12,7 @@
 #include <sage/evaluator.hpp>
 #include <sage/expression.hpp>
 
+#include <cmath>
 #include <cstdio>
 
 int main() {
@@ -44,5 +45,11 @@ int main() {
   const Interval box[2] = {{0.0, 0.5}, {0.0, 0.5}};
   ranges.evaluate_with(box);
   std::printf("omega over [0,.5]x[0,.5] in [%g, %g]\n", ranges.result().lo, ranges.result().hi);
-  return 0;
+
+  // 6. Check: the gradient (-x, -y) has length 1 on the circle, the second
+  //    derivative d2/dx2 is -1, the third 0, and the box is proved inside.
+  const bool right = std::abs(std::hypot(t.derivative({1, 0}), t.derivative({0, 1})) - 1.0) < 1e-15 &&
+                     std::abs(t.derivative({2, 0}) + 1.0) < 1e-15 && t.derivative({3, 0}) == 0.0 &&
+                     ranges.result().lo > 0.0;
+  return right ? 0 : 1;
 }

@@ -14,11 +14,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 int main() {
   using namespace sage;
   const Expr x = Expr::x(), y = Expr::y();
 
+  bool right = true;
   std::printf("%-12s %12s %14s %22s\n", "system", "|grad| at", "d2/dx2 at", "corner value, grad");
   std::printf("%-12s %12s %14s %22s\n", "", "(0, 2)", "(0, 2)", "at (0, 0)");
   for (const char* name : {"minmax", "r0", "ralpha:0.5", "ralpha:var", "rp:2", "rp:4", "rm:2"}) {
@@ -36,9 +38,13 @@ int main() {
     const Tuple<2, 2> corner = eval.at({0.0, 0.0});
     std::printf("%-12s %12.6f %14.6f %10.3g, (%g, %g)\n", name, grad, edge.derivative({2, 0}), corner.value(),
                 corner.derivative({1, 0}), corner.derivative({0, 1}));
+    // 4. Check the promises: every system but rm:2 is normalized on the edge.
+    const bool normalized = std::string(name) == "rm:2" || std::abs(grad - 1.0) < 1e-12;
+    const bool flat = std::string(name) != "rp:4" || std::abs(edge.derivative({2, 0})) < 1e-12;
+    right = right && normalized && flat;
   }
   std::printf(
       "\nrp:4 is normalized to order 3, so its d2/dx2 on the edge is 0; r0 only to order 1.\n"
       "minmax has d2/dx2 = 0 too, but no derivative at all across x = y.\n");
-  return 0;
+  return right ? 0 : 1;
 }
