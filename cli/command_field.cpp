@@ -31,13 +31,13 @@ int run_field(const std::vector<std::string>& args) {
       "highest derivative order written (0 to 6; 0: omega only, for contouring)");
   add("rfunction", po::value(&rfunction),
       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
-  add("tolerance", po::value(&job.tolerance)->default_value(kDefaultFarFieldTolerance, "1e-10"),
+  double tolerance = 0.0;
+  add("tolerance", po::value(&tolerance),
       "far-field approximation: parts of the field far from a grid block\n"
-      "become polynomial patches deviating by at most this fraction of the grid\n"
-      "box's diagonal (0: exact)");
-  add("exact",
-      "evaluate the whole field at every point (as --tolerance 0;\n"
-      "slower on polygons and meshes by 10 to 25 times)");
+      "become polynomial patches, each within this fraction of the grid box's\n"
+      "diagonal (0: exact). Default: 1e-10 for 2D R-function fields (R0, Rp,\n"
+      "R_alpha), where it pays; exact otherwise");
+  add("exact", "evaluate the whole field at every point (as --tolerance 0)");
   add("quiet,q", "no progress or summary");
   SourceOptionText source_text;
   add_source_options(options, job.load, source_text);
@@ -47,10 +47,9 @@ int run_field(const std::vector<std::string>& args) {
   if (vm.count("grid")) job.grid = grid;
   if (vm.count("bounds")) job.bounds = bounds;
   if (vm.count("rfunction")) job.rfunction = rfunction;
-  if (vm.count("exact")) {
-    if (!vm["tolerance"].defaulted()) throw UsageError{"give --exact or --tolerance, not both"};
-    job.tolerance = 0.0;
-  }
+  if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
+  if (vm.count("tolerance")) job.tolerance = tolerance;
+  if (vm.count("exact")) job.tolerance = 0.0;
   const bool quiet = vm.count("quiet") > 0;
   job.show_progress = !quiet;
 
@@ -63,10 +62,13 @@ int run_field(const std::vector<std::string>& args) {
               << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s";
     std::cout << "\n";
     if (r.absolute_tolerance > 0)
-      std::cout << "far-field approximation: values within " << job.tolerance << " of the grid box's diagonal ("
-                << r.absolute_tolerance << ") of the exact field; --exact for exact evaluation\n";
+      std::cout << "far-field approximation: patches within " << r.relative_tolerance << " of the grid box's diagonal ("
+                << r.absolute_tolerance << ") each"
+                << (r.default_evaluation ? " (the default for 2D R-function fields)" : "")
+                << "; --exact for exact evaluation\n";
     else
-      std::cout << "exact evaluation\n";
+      std::cout << "exact evaluation"
+                << (r.default_evaluation ? " (far-field patches pay only for 2D R-function fields)" : "") << "\n";
   }
   return 0;
 }

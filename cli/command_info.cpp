@@ -6,6 +6,7 @@
 #include <sage/evaluator.hpp>
 #include <sage/field_samples.hpp>
 #include <sage/tape.hpp>
+#include <sage/tape_specialization.hpp>
 
 #include <boost/program_options.hpp>
 
@@ -55,9 +56,12 @@ int run_info(const std::vector<std::string>& args) {
               << "] over the bounds (interval arithmetic)\n";
     double diagonal2 = 0.0;
     for (int a = 0; a < model.dimension; ++a) diagonal2 += (b.max[a] - b.min[a]) * (b.max[a] - b.min[a]);
-    std::cout << "sampling:    sage field by default: far parts of the field become patches within "
-              << kDefaultFarFieldTolerance << " of the bounds' diagonal ("
-              << kDefaultFarFieldTolerance * std::sqrt(diagonal2) << "); --exact for exact evaluation\n";
+    if (far_field_pays(tape))
+      std::cout << "sampling:    sage field by default: far parts of the field become patches within "
+                << kDefaultFarFieldTolerance << " of the bounds' diagonal ("
+                << kDefaultFarFieldTolerance * std::sqrt(diagonal2) << "); --exact for exact evaluation\n";
+    else
+      std::cout << "sampling:    sage field by default: exact (far-field patches pay only for 2D R-function fields)\n";
   } else {
     std::cout << "bounds:      none in the model (sage field needs --bounds)\n";
   }

@@ -108,7 +108,7 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
   if (job.order < 0 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
-  if (!(job.tolerance >= 0 && job.tolerance < 1e-2))
+  if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
     throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   FieldReport report;
@@ -120,7 +120,9 @@ FieldReport run_field_job(const FieldJob& job) {
   Approximation approximation;
   double diagonal2 = 0;
   for (int a = 0; a < report.grid.dimension; ++a) diagonal2 += std::pow(report.grid.hi[a] - report.grid.lo[a], 2);
-  approximation.tolerance = report.absolute_tolerance = job.tolerance * std::sqrt(diagonal2);
+  report.default_evaluation = !job.tolerance;
+  report.relative_tolerance = job.tolerance.value_or(far_field_pays(tape) ? kDefaultFarFieldTolerance : 0.0);
+  approximation.tolerance = report.absolute_tolerance = report.relative_tolerance * std::sqrt(diagonal2);
   const FieldSamples samples =
       sample_field(tape, report.grid, job.order,
                    job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{}, &approximation);

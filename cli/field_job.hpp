@@ -22,8 +22,9 @@ struct FieldJob {
   geometry::LoadOptions load;            // GIS and mesh options
   int order = 1;
   // Far-field approximation: allowed deviation relative to the grid box's
-  // diagonal (0 = exact sampling).
-  double tolerance = kDefaultFarFieldTolerance;
+  // diagonal (0 = exact sampling); unset: kDefaultFarFieldTolerance where
+  // it pays (far_field_pays), else exact.
+  std::optional<double> tolerance;
   bool show_progress = true;
 };
 
@@ -32,7 +33,9 @@ struct FieldReport {
   std::size_t instructions = 0;
   double omega_min = 0, omega_max = 0;
   double seconds_sampling = 0, seconds_writing = 0;
-  double absolute_tolerance = 0;  // in field units, 0 when exact
+  double relative_tolerance = 0;   // of the grid box's diagonal, 0 when exact
+  double absolute_tolerance = 0;   // in field units, 0 when exact
+  bool default_evaluation = true;  // the tolerance was chosen by sage, not given
 };
 
 /// Reads any geometry source with the job's options (throws ModelError).

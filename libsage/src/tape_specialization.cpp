@@ -82,6 +82,14 @@ void TapeSpecializer::rebind(const Tape& tape) {
   bounds_->low.resize(tape.code().size());
 }
 
+bool far_field_pays(const Tape& tape) {
+  if (tape.dimension() != 2) return false;
+  for (const Instruction& ins : tape.code())
+    if ((ins.op == Op::RAnd || ins.op == Op::ROr) && static_cast<int>(ins.p0) != static_cast<int>(RKind::MinMax))
+      return true;
+  return false;
+}
+
 bool TapeSpecializer::worthwhile(const Tape& tape) {
   std::size_t prunable = 0;
   for (const Instruction& ins : tape.code())

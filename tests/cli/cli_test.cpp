@@ -279,7 +279,7 @@ TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
     for (vtkIdType i = 0; omega && i < omega->GetNumberOfTuples(); ++i) s.omega.push_back(omega->GetTuple1(i));
     return s;
   };
-  const Sampled approximate = sample("", "far-field approximation: values within 1e-10 of the grid box's diagonal");
+  const Sampled approximate = sample("", "far-field approximation: patches within 1e-10 of the grid box's diagonal");
   const Sampled exact = sample(" --exact", "exact evaluation");
   EXPECT_NE(approximate.evaluation.find("far-field"), std::string::npos);
   EXPECT_EQ(exact.evaluation, "exact");
@@ -296,6 +296,10 @@ TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
   EXPECT_GT(differ, 0u);  // the patches were used
   expect_failure("field " + lake + " -o " + scratch("x.vtu").string() + " --exact --tolerance 1e-9",
                  {"--exact or --tolerance"});
+  // 3D and min/max fields are exact by default (patches would not pay).
+  const Result solid =
+      run("field " + model("primitives_3d.json") + " -o " + scratch("solid.vti").string() + " --grid 8x8x8");
+  EXPECT_NE(solid.output.find("exact evaluation"), std::string::npos) << solid.output;
 }
 
 TEST(CliGeometry, ShapefileWhereAndBrep) {

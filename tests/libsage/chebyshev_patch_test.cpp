@@ -462,5 +462,16 @@ TEST(FarFieldApproximation, GridSamplingStaysWithinTheTolerance) {
   EXPECT_GT(value, 0.0) << "patches were used (else this test proves nothing)";
 }
 
+// sage field's default: patches for 2D trees with R-functions that pruning
+// cannot shrink, not for min/max trees, formulas or 3D fields.
+TEST(FarFieldApproximation, PaysFor2DRFunctionTreesOnly) {
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  EXPECT_TRUE(far_field_pays(Tape(r_and(x, y, RSystem::r0()), 2)));
+  EXPECT_TRUE(far_field_pays(Tape(r_or(x, y, RSystem::parse("rp:4")), 2)));
+  EXPECT_FALSE(far_field_pays(Tape(r_and(x, y, RSystem::min_max()), 2)));
+  EXPECT_FALSE(far_field_pays(Tape(x * y + 1.0, 2)));
+  EXPECT_FALSE(far_field_pays(Tape(r_and(x, z, RSystem::r0()), 3)));
+}
+
 }  // namespace
 }  // namespace sage

@@ -231,7 +231,23 @@ void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit,
   for (int a = 0; a < 3; ++a) all.hi[a] = grid.points[a];
   std::atomic<std::size_t> done{0};
   const detail::BlockPlan plan = detail::plan_for(tape, grid, approximation);
-  if (!plan.prune && !plan.approximation) return for_each_grid_point<T>(tape, grid, visit, progress);
+  if (!detail::splits(tape, all, plan)) {
+    // Nothing to specialize (no min/max node and no far field, or a tape
+    // too short): slabs of whole grid rows, in parallel, each run in
+    // batches as a leaf block is (the same bits as point by point).
+    const int ny = grid.points[1], nz = grid.points[2];
+    const int rows_per_slab = std::max(1, static_cast<int>(4096 / std::max(1, grid.points[0])));
+    const int slabs_per_plane = (ny + rows_per_slab - 1) / rows_per_slab;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int s = 0; s < slabs_per_plane * nz; ++s) {
+      detail::GridBlock slab;
+      slab.lo = {0, (s % slabs_per_plane) * rows_per_slab, s / slabs_per_plane};
+      slab.hi = {grid.points[0], std::min(ny, slab.lo[1] + rows_per_slab), slab.lo[2] + 1};
+      detail::visit_block<T>(tape, grid, slab, visit, detail::kTaskDepth, done, progress, plan);
+    }
+    if (progress) progress(1.0);
+    return;
+  }
 #pragma omp parallel
 #pragma omp single
   detail::visit_block<T>(tape, grid, all, visit, 0, done, progress, plan);

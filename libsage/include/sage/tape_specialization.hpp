@@ -63,6 +63,14 @@
 namespace sage {
 
 /// Settings of far-field approximation.
+/// Whether far-field patches pay for `tape`, as `sage field`'s default:
+/// 2D tapes with R-function nodes that interval pruning cannot shrink (R0,
+/// R_alpha, Rp, R0^m). Min/max trees are pruned exactly instead, and in 3D
+/// fitting (n + 1)^3 samples per patch costs more than the patches save
+/// (far_field_bench: 1,000 balls at 128^3 four times slower, meshes no
+/// faster).
+bool far_field_pays(const Tape& tape);
+
 struct Approximation {
   double tolerance = 0;          // how far each patch may move the roots (field units, first order)
   double enlargement = 1;        // singular sets must be this many half-diagonals from the box centre
