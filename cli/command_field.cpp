@@ -33,9 +33,8 @@ int run_field(const std::vector<std::string>& args) {
       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
   double tolerance = 0.0;
   add("tolerance", po::value(&tolerance),
-      "far-field approximation: parts of the field far from a grid block\n"
-      "become polynomial patches, each within this fraction of the grid box's\n"
-      "diagonal (0: exact). Default: 1e-10 for 2D R-function fields (R0, Rp,\n"
+      "far-field approximation: parts of the field far from a grid block become polynomial patches, each within "
+      "this fraction of the grid box's diagonal (0: exact). Default: 1e-10 for 2D R-function fields (R0, Rp, "
       "R_alpha), where it pays; exact otherwise");
   add("exact", "evaluate the whole field at every point (as --tolerance 0)");
   add("quiet,q", "no progress or summary");
