@@ -57,11 +57,9 @@ void compare(const std::string& path, int order, int points_2d, int points_3d) {
   grid.points = model.dimension == 2 ? std::array<int, 3>{points_2d, points_2d, 1}
                                      : std::array<int, 3>{points_3d, points_3d, points_3d};
   if (model.dimension == 2) grid.lo[2] = grid.hi[2] = 0.0;
-  double diagonal2 = 0.0;
-  for (int a = 0; a < grid.dimension; ++a) diagonal2 += std::pow(grid.hi[a] - grid.lo[a], 2);
   const sage::Tape tape(model.field, model.dimension);
   sage::Approximation approximation;
-  approximation.tolerance = 1e-10 * std::sqrt(diagonal2);
+  approximation.tolerance = sage::kDefaultFarFieldTolerance * grid.diagonal();
 
   // Fastest of three runs each, alternating: small models take milliseconds.
   sage::FieldSamples exact, approximate;
@@ -78,7 +76,7 @@ void compare(const std::string& path, int order, int points_2d, int points_3d) {
   std::size_t wrong_signs = 0;
   for (std::size_t i = 0; i < exact.omega.size(); ++i)
     wrong_signs += (exact.omega[i] > 0) != (approximate.omega[i] > 0);
-  const double value = deviation(approximate.omega, exact.omega).first / std::sqrt(diagonal2);
+  const double value = deviation(approximate.omega, exact.omega).first / grid.diagonal();
   const double gradient = deviation(approximate.gradient, exact.gradient).first;
   std::printf("| %s | %zu | %dx%d%s | %.4f | %.4f | %.1f | %.1e | %zu | %.1e |",
               std::filesystem::path(path).filename().c_str(), tape.code().size(), grid.points[0], grid.points[1],

@@ -10,7 +10,6 @@
 
 #include <boost/program_options.hpp>
 
-#include <cmath>
 #include <iostream>
 
 namespace po = boost::program_options;
@@ -54,12 +53,11 @@ int run_info(const std::vector<std::string>& args) {
     eval.evaluate_with(box);
     std::cout << "omega range: within [" << eval.result().lo << ", " << eval.result().hi
               << "] over the bounds (interval arithmetic)\n";
-    double diagonal2 = 0.0;
-    for (int a = 0; a < model.dimension; ++a) diagonal2 += (b.max[a] - b.min[a]) * (b.max[a] - b.min[a]);
+    const double diagonal = grid_for(model, std::nullopt, std::nullopt).diagonal();
     if (far_field_pays(tape))
       std::cout << "sampling:    sage field by default: far parts of the field become patches within "
-                << kDefaultFarFieldTolerance << " of the bounds' diagonal ("
-                << kDefaultFarFieldTolerance * std::sqrt(diagonal2) << "); --exact for exact evaluation\n";
+                << kDefaultFarFieldTolerance << " of the bounds' diagonal (" << kDefaultFarFieldTolerance * diagonal
+                << "); --exact for exact evaluation\n";
     else
       std::cout << "sampling:    sage field by default: exact (far-field patches pay only for 2D R-function fields)\n";
   } else {

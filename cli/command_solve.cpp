@@ -98,9 +98,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   const bool sampled_omega = solution.domain && solution.domain->code().size() > kLargeField;
   if (sampled_omega) {
     Approximation approximation;
-    double diagonal2 = 0;
-    for (int a = 0; a < D; ++a) diagonal2 += std::pow(grid.hi[a] - grid.lo[a], 2);
-    approximation.tolerance = kOutputOmegaTolerance * std::sqrt(diagonal2);
+    approximation.tolerance = kOutputOmegaTolerance * grid.diagonal();
     for_each_grid_point_pruned<double>(
         *solution.domain, grid, [&](std::size_t i, const auto& results) { omega.values[i] = results.result(0); }, {},
         &approximation);

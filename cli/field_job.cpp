@@ -118,11 +118,9 @@ FieldReport run_field_job(const FieldJob& job) {
   const Tape tape(model.field, model.dimension);
   report.instructions = tape.code().size();
   Approximation approximation;
-  double diagonal2 = 0;
-  for (int a = 0; a < report.grid.dimension; ++a) diagonal2 += std::pow(report.grid.hi[a] - report.grid.lo[a], 2);
   report.default_evaluation = !job.tolerance;
   report.relative_tolerance = job.tolerance.value_or(far_field_pays(tape) ? kDefaultFarFieldTolerance : 0.0);
-  approximation.tolerance = report.absolute_tolerance = report.relative_tolerance * std::sqrt(diagonal2);
+  approximation.tolerance = report.absolute_tolerance = report.relative_tolerance * report.grid.diagonal();
   const FieldSamples samples =
       sample_field(tape, report.grid, job.order,
                    job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{}, &approximation);

@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     grid.hi = {hi[0] + 0.05 * diagonal, hi[1] + 0.05 * diagonal, 0};
     grid.points = {300, 300, 1};
     Approximation far_field;
-    far_field.tolerance = kDefaultFarFieldTolerance * std::hypot(grid.hi[0] - grid.lo[0], grid.hi[1] - grid.lo[1]);
+    far_field.tolerance = kDefaultFarFieldTolerance * grid.diagonal();
     const FieldSamples samples = sample_field(tape, grid, 1, {}, &far_field);
     double worst_sample = 0;
     std::size_t wrong_signs = 0;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <string>
 
@@ -37,6 +38,13 @@ struct Grid {
            static_cast<std::size_t>(points[2]);
   }
   double spacing(int axis) const { return points[axis] > 1 ? (hi[axis] - lo[axis]) / (points[axis] - 1) : 0.0; }
+  /// Length of the box's diagonal over the grid's axes (the unit of
+  /// far-field tolerances).
+  double diagonal() const {
+    double sum = 0.0;
+    for (int a = 0; a < dimension; ++a) sum += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+    return std::sqrt(sum);
+  }
   std::array<double, 3> point(std::size_t index) const {
     const std::size_t i = index % points[0], j = (index / points[0]) % points[1], k = index / points[0] / points[1];
     return {lo[0] + i * spacing(0), lo[1] + j * spacing(1), dimension == 3 ? lo[2] + k * spacing(2) : 0.0};
