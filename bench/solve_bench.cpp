@@ -26,7 +26,10 @@
 // on named faces; both Dirichlet routes (Nitsche's, the structure), degrees
 // 2 and 3 (or those given), with the cut cells' points and the rates.
 //
-//   solve_bench [disk|ball|robin [DEGREE...]|solids [DEGREE...]|all]   (OMP_NUM_THREADS=1 for one-thread figures)
+// `solve_bench elasticity` (not part of `all`): elasticity_tables.cpp.
+//
+//   solve_bench [disk|ball|robin [DEGREE...]|solids [DEGREE...]|elasticity|all]   (OMP_NUM_THREADS=1 for one-thread
+//   figures)
 
 #include <sage/derivative.hpp>
 #include <sage/primitives.hpp>
@@ -45,6 +48,10 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+
+namespace sage::bench {
+void elasticity_tables();  // elasticity_tables.cpp
+}
 
 namespace {
 
@@ -206,6 +213,7 @@ int main(int argc, char** argv) {
         solid_rates<3>("Plate (-1,1)^2 x (0,1) minus cylinder r = 0.4: Dirichlet sides, Neumann top/bottom, Robin hole",
                        plate_with_hole(), degree, route, {8, 16, 32});
   }
+  if (which == "elasticity") sage::bench::elasticity_tables();
   if (which == "robin") {
     const PoissonProblem problem = square_with_robin_hole(1.0, 1.0);
     const double band = SolverOptions{}.robin_band;

@@ -17,13 +17,13 @@ std::string MemoryEstimate::summary() const {
 }
 
 MemoryEstimate estimate_memory(int dimension, int degree, std::size_t cells_inside, std::size_t cells_cut,
-                               std::size_t relevant_splines, int threads, bool direct_solve) {
+                               std::size_t relevant_splines, int threads, bool direct_solve, int components) {
   MemoryEstimate e;
   e.cells_inside = cells_inside;
   e.cells_cut = cells_cut;
   e.relevant_splines = relevant_splines;
   const double q = degree + 1, d = dimension;
-  const double stencil = std::pow(2.0 * degree + 1.0, d);
+  const double stencil = std::pow(2.0 * degree + 1.0, d) * components * components;
   const double volume =
       static_cast<double>(cells_inside) * std::pow(q, d) + 3.0 * static_cast<double>(cells_cut) * std::pow(q + 1.0, d);
   const double surface = 4.0 * static_cast<double>(cells_cut) * std::pow(q + 1.0, d - 1.0);

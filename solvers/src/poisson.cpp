@@ -1,22 +1,16 @@
+#include "discretization.hpp"
+#include "linear_solve.hpp"
+#include "stage_timer.hpp"
+
 #include <sage/solver/boundary_structure.hpp>
 #include <sage/solver/condition.hpp>
 #include <sage/solver/extended_system.hpp>
-#include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>
-#include <sage/solver/memory_estimate.hpp>
-#include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/poisson.hpp>
 #include <sage/solver/tensor_cell_stiffness.hpp>
 
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCholesky>
-
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <ctime>
 #include <stdexcept>
 #include <string>
 
@@ -27,172 +21,6 @@
 namespace sage::solver {
 
 namespace {
-
-/// Wall-clock and process CPU seconds per stage (CPU time is what a
-/// one-thread benchmark on a shared machine can compare).
-class StageTimer {
- public:
-  explicit StageTimer(SolveReport& report) : report_(report) {}
-  void lap(double StageSeconds::*stage) {
-    const auto now = std::chrono::steady_clock::now();
-    const std::clock_t cpu_now = std::clock();
-    report_.seconds.*stage = std::chrono::duration<double>(now - start_).count();
-    report_.cpu_seconds.*stage = static_cast<double>(cpu_now - cpu_start_) / CLOCKS_PER_SEC;
-    start_ = now;
-    cpu_start_ = cpu_now;
-  }
-
- private:
-  SolveReport& report_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  std::clock_t cpu_start_ = std::clock();
-};
-
-template <int D>
-Box<D> cell_box(const BackgroundGrid<D>& grid, std::size_t linear) {
-  const auto c = grid.cell_index(linear);
-  Box<D> box{};
-  for (int a = 0; a < D; ++a) {
-    box.lo[a] = grid.lo[a] + c[a] * grid.h;
-    box.hi[a] = grid.lo[a] + (c[a] + 1) * grid.h;
-  }
-  return box;
-}
-
-/// The centre of the inside cell farthest (in cells) from every cell that
-/// is not inside: a point well inside the domain, where the selectors'
-/// signs are read (boundary_structure.hpp).
-template <int D>
-std::array<double, 3> deepest_inside_centre(const BackgroundGrid<D>& grid, const std::vector<CellKind>& kinds) {
-  // Multi-source breadth-first search from the cells that are not inside,
-  // over the 3^D neighbourhood.
-  const std::size_t count = grid.cell_count();
-  std::vector<int> distance(count, -1);
-  std::vector<std::size_t> queue;
-  for (std::size_t c = 0; c < count; ++c) {
-    if (kinds[c] == CellKind::Inside) continue;
-    distance[c] = 0;
-    queue.push_back(c);
-  }
-  for (std::size_t head = 0; head < queue.size(); ++head) {
-    const auto i = grid.cell_index(queue[head]);
-    for (int offset = 0; offset < (D == 2 ? 9 : 27); ++offset) {
-      auto j = i;
-      int rest = offset;
-      bool in_grid = true;
-      for (int a = 0; a < D; ++a) {
-        j[a] += rest % 3 - 1;
-        rest /= 3;
-        in_grid = in_grid && j[a] >= 0 && j[a] < grid.cells[a];
-      }
-      if (!in_grid) continue;
-      std::size_t linear = 0;
-      for (int a = D - 1; a >= 0; --a)
-        linear = linear * static_cast<std::size_t>(grid.cells[a]) + static_cast<std::size_t>(j[a]);
-      const int next = distance[queue[head]] + 1;
-      if (distance[linear] >= 0 && distance[linear] <= next) continue;
-      distance[linear] = next;
-      queue.push_back(linear);
-    }
-  }
-  std::size_t best = 0;
-  for (std::size_t c = 0; c < count; ++c)
-    if (kinds[c] == CellKind::Inside && (kinds[best] != CellKind::Inside || distance[c] > distance[best])) best = c;
-  std::array<double, 3> centre{};
-  const auto i = grid.cell_index(best);
-  for (int a = 0; a < D; ++a) centre[a] = grid.lo[a] + (i[a] + 0.5) * grid.h;
-  return centre;
-}
-
-/// Refuses, with the estimate, a solve that would not fit in `limit_mb`
-/// (0: unknown, no check); records the estimate in the report.
-template <int D>
-void check_memory(const BackgroundGrid<D>& grid, const std::vector<std::size_t>& candidates, SolveReport& report,
-                  const SolverOptions& options, double limit_mb) {
-  // The B-splines whose support meets a candidate cell.
-  std::vector<char> relevant(grid.spline_count(), 0);
-  std::size_t relevant_count = 0;
-  for (const std::size_t c : candidates) {
-    const auto cell = grid.cell_index(c);
-    for (int k = 0; k < grid.local_count(); ++k) {
-      char& mark = relevant[grid.spline_linear(LocalSplines<D>::global_index(cell, grid.degree, k))];
-      relevant_count += mark ? 0 : 1;
-      mark = 1;
-    }
-  }
-  int threads = 1;
-#ifdef _OPENMP
-  threads = omp_get_max_threads();
-#endif
-  const bool direct = options.linear_solver == LinearSolverKind::Direct ||
-                      (options.linear_solver == LinearSolverKind::Automatic && options.robin == RobinRoute::Structure);
-  const MemoryEstimate estimate =
-      estimate_memory(D, grid.degree, report.cells_inside, report.cells_cut, relevant_count, threads, direct);
-  report.memory_estimate_mb = estimate.megabytes;
-  if (limit_mb > 0.0 && estimate.megabytes > limit_mb)
-    throw std::runtime_error("the problem is too large for this machine: it needs " + estimate.summary() + ", and " +
-                             std::to_string(static_cast<long long>(limit_mb)) +
-                             " MB are available (use fewer cells or a lower degree)");
-}
-
-/// The cells of the background grid against the domain, and their
-/// quadrature: from the Boolean pieces of omega (domain_quadrature.hpp), or,
-/// for domains read from meshes, from the triangles (mesh_domain.hpp).
-template <int D>
-class DomainCells {
- public:
-  /// Compiles the pieces (an implicit domain).
-  explicit DomainCells(const PoissonProblem& problem) : problem_(problem) {
-    if (D == 2 || !problem.boundary_mesh) pieces_.emplace(problem.domain, D);
-  }
-  /// Classifies the cells of `grid`.
-  void classify(const BackgroundGrid<D>& grid) {
-    if constexpr (D == 3) {
-      if (problem_.boundary_mesh) {
-        mesh_ = std::make_shared<MeshDomain>(problem_.boundary_mesh, grid);
-        kinds_ = mesh_->kinds();
-        return;
-      }
-    }
-    cells_ = classify_cells<D>(*pieces_, grid);
-    kinds_.resize(cells_.size());
-    for (std::size_t c = 0; c < cells_.size(); ++c) kinds_[c] = cells_[c].kind;
-  }
-  const std::vector<CellKind>& kinds() const { return kinds_; }
-  std::shared_ptr<const MeshDomain> mesh() const { return mesh_; }
-
-  /// One per thread.
-  class Rule {
-   public:
-    Rule(const DomainCells& cells, QuadratureOptions options) : cells_(cells) {
-      if (cells.mesh_) {
-        mesh_rule_.emplace(*cells.mesh_, options);
-      } else {
-        rule_.emplace(*cells.pieces_, options);
-      }
-    }
-    void append(std::size_t cell, const Box<D>& box, std::vector<VolumePoint<D>>& volume,
-                std::vector<SurfacePoint<D>>* surface) {
-      if constexpr (D == 3) {
-        if (mesh_rule_) return mesh_rule_->append_rule(cell, box, volume, surface);
-      }
-      rule_->append_rule(box, cells_.cells_[cell], volume, surface);
-    }
-    const QuadratureCounts& counts() const { return mesh_rule_ ? mesh_rule_->counts() : rule_->counts(); }
-
-   private:
-    const DomainCells& cells_;
-    std::optional<CellQuadrature<D>> rule_;
-    std::optional<MeshCellQuadrature> mesh_rule_;
-  };
-
- private:
-  const PoissonProblem& problem_;
-  std::optional<DomainPieces> pieces_;
-  std::vector<CellDomain> cells_;
-  std::shared_ptr<MeshDomain> mesh_;
-  std::vector<CellKind> kinds_;
-};
 
 /// Everything the assembly of one cell reads, compiled once.
 struct AssemblyTapes {
@@ -214,15 +42,7 @@ struct SurfaceData {
 SurfaceData surface_data(const PoissonProblem& problem, const Evaluator<double>& eval, double tolerance,
                          bool weak_dirichlet, bool rest_must_be_empty) {
   const std::size_t parts = problem.parts.size();
-  std::size_t nearest = parts;
-  double distance = tolerance;
-  for (std::size_t k = 0; k < parts; ++k) {
-    const double d = std::abs(eval.result(k));
-    if (d <= distance) {
-      distance = d;
-      nearest = k;
-    }
-  }
+  const std::size_t nearest = nearest_part(eval, parts, tolerance);
   if (nearest == parts && rest_must_be_empty) return {SurfaceData::Role::Unclaimed};
   const BoundaryPart& part = nearest < parts ? problem.parts[nearest] : problem.rest;
   const std::size_t data = parts + 3 * nearest;
@@ -261,111 +81,6 @@ void add_nitsche_terms(const BackgroundGrid<D>& grid, const std::array<int, D>& 
   auto lower = stiffness.topLeftCorner(count, count).template selfadjointView<Eigen::Lower>();
   lower.rankUpdate(values, wk * sigma);
   lower.rankUpdate(values, dn, -wk);
-}
-
-template <int D>
-void check_options(const PoissonProblem& problem, const SolverOptions& options) {
-  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
-  if (options.degree < 1 || options.degree > kMaxDegree)
-    throw std::invalid_argument("degree must be 1.." + std::to_string(kMaxDegree) + ", not " +
-                                std::to_string(options.degree));
-  if (!(options.cell_width > 0.0) || !std::isfinite(options.cell_width))
-    throw std::invalid_argument("cell width h must be positive");
-  if (!(options.cg_tolerance >= 0.0 && options.cg_tolerance < 1.0))
-    throw std::invalid_argument("the conjugate gradients tolerance must be in [0, 1) (0: automatic)");
-  for (int a = 0; a < D; ++a)
-    if (!(problem.max[a] > problem.min[a])) throw std::invalid_argument("the domain's bounding box is empty");
-}
-
-/// What conjugate gradients reached.
-struct CgResult {
-  Eigen::VectorXd x;
-  bool converged = false;
-  double residual = 1.0;  // relative
-};
-
-/// Conjugate gradients from `guess` (or 0), for at most `budget`
-/// iterations; without a budget, throws when they do not converge.
-template <class Preconditioner>
-CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
-                             SolveReport& report, int budget = 0, const Eigen::VectorXd* guess = nullptr) {
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
-  cg.setTolerance(tolerance);
-  report.cg_tolerance = tolerance;
-  cg.setMaxIterations(budget > 0 ? budget : 10 * system.rows() + 100);
-  cg.compute(system);
-  if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
-  CgResult result;
-  if (guess) {
-    result.x = cg.solveWithGuess(right, *guess);
-  } else {
-    result.x = cg.solve(right);
-  }
-  report.iterations += static_cast<int>(cg.iterations());
-  result.converged = cg.info() == Eigen::Success;
-  result.residual = cg.error();
-  if (!result.converged && budget == 0)
-    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
-                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
-  return result;
-}
-
-/// 3D, automatic: Jacobi's preconditioner is set up for free and enough
-/// for most domains (a few hundred to 1,400 iterations), but domains with
-/// features a few cells wide (a mesh's thin ears) make the WEB system's
-/// condition reach 1e8 after scaling, where Jacobi needs 8,000 iterations
-/// and incomplete Cholesky 23 (its set-up costs several times a hundred
-/// Jacobi iterations). So Jacobi in legs, while they promise convergence
-/// within kJacobiBudget iterations.
-constexpr int kJacobiProbe = 200;
-constexpr int kJacobiBudget = 4000;
-
-/// Local B-splines and their gradients at the points of the tensor Gauss
-/// rule of an inside cell, in the order of CellQuadrature::append_rule
-/// (x fastest): value[p * local + k], gradient[a][p * local + k].
-struct InsideSplineTable {
-  std::size_t points = 0;
-  std::vector<double> value;
-  std::array<std::vector<double>, 3> gradient;
-};
-
-template <int D>
-InsideSplineTable inside_spline_table(const BackgroundGrid<D>& grid, int rule_points) {
-  const GaussRule& rule = gauss_legendre(rule_points);
-  InsideSplineTable table;
-  table.points = 1;
-  for (int a = 0; a < D; ++a) table.points *= static_cast<std::size_t>(rule_points);
-  const auto local = static_cast<std::size_t>(grid.local_count());
-  table.value.resize(table.points * local);
-  for (int a = 0; a < D; ++a) table.gradient[a].resize(table.points * local);
-  LocalSplines<D> splines;
-  const std::array<int, D> cell{};  // the first cell: t = Gauss node on every axis
-  for (std::size_t p = 0; p < table.points; ++p) {
-    std::array<double, D> x{};
-    std::size_t rest = p;
-    for (int a = 0; a < D; ++a) {
-      x[a] = grid.lo[a] + grid.h * rule.nodes[rest % static_cast<std::size_t>(rule_points)];
-      rest /= static_cast<std::size_t>(rule_points);
-    }
-    splines.evaluate(grid, cell, x.data());
-    std::copy(splines.value.begin(), splines.value.end(), table.value.begin() + p * local);
-    for (int a = 0; a < D; ++a)
-      std::copy(splines.gradient[a].begin(), splines.gradient[a].end(), table.gradient[a].begin() + p * local);
-  }
-  return table;
-}
-
-std::string scientific(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3e", x);
-  return text;
-}
-
-template <int D>
-std::string point_text(const std::array<double, D>& x) {
-  std::string text = "(";
-  for (int a = 0; a < D; ++a) text += (a ? ", " : "") + std::to_string(x[a]);
-  return text + ")";
 }
 
 /// The structure route's own conditions (trial_structure.hpp): the field
@@ -498,21 +213,9 @@ double automatic_cg_tolerance(double cell_width, double longest_side, int degree
 
 template <int D>
 PoissonSolution<D>::Probe::Probe(const PoissonSolution& solution)
-    : solution_(&solution), structure_(*solution.structure) {
-  if (solution.domain) domain_.emplace(*solution.domain);
-}
-
-template <int D>
-double PoissonSolution<D>::Probe::omega(const double* x) {
-  if constexpr (D == 3) {
-    if (solution_->mesh) {
-      std::array<double, 3> p{x[0], x[1], x[2]};
-      return solution_->mesh->signed_distance(p, kMeshDistanceBand * solution_->basis.grid.h);
-    }
-  }
-  domain_->evaluate(x);
-  return domain_->result();
-}
+    : solution_(&solution),
+      structure_(*solution.structure),
+      domain_(solution.domain, solution.mesh, solution.basis.grid.h) {}
 
 template <int D>
 double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
@@ -570,7 +273,8 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
 
 template <int D>
 PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOptions& options) {
-  check_options<D>(problem, options);
+  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  check_solver_options(options, problem.min, problem.max, D);
   PoissonSolution<D> solution;
   SolveReport& report = solution.report;
   StageTimer timer(report);
@@ -578,51 +282,25 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 
   // Field: the domain's pieces and their Boolean formula, compiled (not for
   // mesh domains, whose cells come from the triangles).
-  DomainCells<D> cells(problem);
+  DomainCells<D> cells(problem.domain, problem.boundary_mesh);
   timer.lap(&StageSeconds::field);
 
-  // Classification of the background cells: by the domain's pieces and
-  // interval arithmetic, or by a mesh's triangles.
-  std::array<double, D> min{}, max{};
-  for (int a = 0; a < D; ++a) {
-    min[a] = problem.min[a];
-    max[a] = problem.max[a];
-  }
-  const auto grid = BackgroundGrid<D>::covering(min, max, options.cell_width, n);
-  if (grid.spline_count() > 50'000'000ull)
-    throw std::invalid_argument("the grid is too fine: " + std::to_string(grid.spline_count()) + " B-splines");
+  // Classification of the background cells.
+  const bool direct = options.linear_solver == LinearSolverKind::Direct ||
+                      (options.linear_solver == LinearSolverKind::Automatic && options.robin == RobinRoute::Structure);
+  const ClassifiedGrid<D> classified = classify_grid<D>(cells, problem.min, problem.max, options.cell_width, n,
+                                                        {direct, 1, options.memory_limit_mb}, report);
+  const BackgroundGrid<D>& grid = classified.grid;
+  const std::vector<std::size_t>& candidates = classified.candidates;
+  const std::vector<CellKind>& kinds = cells.kinds();
+  const std::array<double, 3>& interior = classified.interior;
   // Gauss with n + 1 nodes per direction, in inside cells and on every
   // piece of a cut cell whose active pieces are planar: exact for the
   // polynomial part (degree 2n + 1). One more where a curved piece is
   // active: weak terms on a sphere need it (the ball's Robin patch test:
   // L2 1.8e-5 with n + 1, 8e-7 with n + 2).
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
-  QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
-  const std::size_t cell_count = grid.cell_count();
-  const double memory_limit = options.memory_limit_mb > 0.0 ? options.memory_limit_mb : available_megabytes();
-  // The classification's own arrays, before it allocates them.
-  const double classification_mb =
-      static_cast<double>(cell_count) * (sizeof(CellDomain) + sizeof(CellKind) + 8) / (1024.0 * 1024.0);
-  if (memory_limit > 0.0 && classification_mb > memory_limit)
-    throw std::runtime_error("the grid is too large for this machine: classifying its " + std::to_string(cell_count) +
-                             " cells needs about " + std::to_string(static_cast<long long>(classification_mb)) +
-                             " MB, " + std::to_string(static_cast<long long>(memory_limit)) +
-                             " MB are available (use fewer cells or a lower degree)");
-  cells.classify(grid);
-  const std::vector<CellKind>& kinds = cells.kinds();
-  std::vector<std::size_t> candidates;
-  for (std::size_t c = 0; c < cell_count; ++c) {
-    if (kinds[c] == CellKind::Outside) continue;
-    candidates.push_back(c);
-    if (kinds[c] == CellKind::Inside) ++report.cells_inside;
-  }
-  report.cells = cell_count;
-  report.cells_cut = candidates.size() - report.cells_inside;
-  if (candidates.empty()) throw std::runtime_error("the domain is empty: omega < 0 on every grid cell");
-  if (report.cells_inside == 0)
-    throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (use more cells)");
-  const std::array<double, 3> interior = deepest_inside_centre(grid, kinds);
-  check_memory<D>(grid, candidates, report, options, memory_limit);
+  const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
   timer.lap(&StageSeconds::classification);
 
   bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet, has_weak = !has_dirichlet;
@@ -679,58 +357,15 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
   // a weak condition may hold.
-  std::vector<std::vector<VolumePoint<D>>> volume(candidates.size());
-  std::vector<std::vector<SurfacePoint<D>>> surface(candidates.size());
-#pragma omp parallel
-  {
-    typename DomainCells<D>::Rule rule(cells, quadrature), band_rule(cells, band_quadrature);
-#pragma omp for schedule(dynamic, 16) nowait
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      const std::size_t c = candidates[k];
-      (in_band[k] ? band_rule : rule).append(c, cell_box(grid, c), volume[k], needs_surface ? &surface[k] : nullptr);
-    }
-#pragma omp critical
-    for (const QuadratureCounts* counts : {&rule.counts(), &band_rule.counts()}) {
-      report.masked_boxes += counts->masked_boxes;
-      report.masked_points += counts->masked_points;
-      report.unresolved_surface_boxes += counts->unresolved_surface;
-      report.unbroken_boxes += counts->unbroken_boxes;
-    }
-  }
-  std::vector<char> active(cell_count, 0), inside(cell_count, 0);
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    // A cell touching the domain in a face or an edge only carries no
-    // weight: its B-splines must not become unknowns.
-    double weight = 0.0;
-    for (const auto& q : volume[k]) weight += q.weight;
-    active[candidates[k]] = weight > 1e-13 * std::pow(grid.h, D) ? 1 : 0;
-    if (!active[candidates[k]]) volume[k].clear();
-    inside[candidates[k]] = kinds[candidates[k]] == CellKind::Inside ? 1 : 0;
-    report.volume_points += volume[k].size();
-    if (kinds[candidates[k]] == CellKind::Cut) report.cut_volume_points += volume[k].size();
-    report.surface_points += surface[k].size();
-  }
-  if (options.keep_quadrature) {
-    QuadratureDump& dump = solution.quadrature;
-    auto add = [&](const std::array<double, D>& x, double weight, double on_surface) {
-      for (int a = 0; a < 3; ++a) dump.coordinates.push_back(a < D ? x[a] : 0.0);
-      dump.weights.push_back(weight);
-      dump.on_surface.push_back(on_surface);
-    };
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      for (const auto& q : volume[k]) add(q.x, q.weight, 0.0);
-      for (const auto& q : surface[k]) add(q.x, q.weight, 1.0);
-    }
-  }
+  CellRules<D> rules = integrate_cells(cells, classified, quadrature, band_quadrature, in_band, needs_surface, report);
+  const auto& volume = rules.volume;
+  const auto& surface = rules.surface;
   timer.lap(&StageSeconds::quadrature);
 
   // Basis and assembly.
-  solution.basis = build_basis(grid, active, inside, options.basis);
+  solution.basis = basis_on_cells(cells, classified, rules, options.basis, report);
+  if (options.keep_quadrature) solution.quadrature = quadrature_dump(rules);
   const SplineBasis<D>& basis = solution.basis;
-  report.relevant_splines = basis.relevant.size();
-  report.inner_splines = basis.inner_count;
-  report.outer_splines = basis.outer_count;
-  report.unknowns = basis.unknowns();
 
   // Dirichlet data on the boundary: the caller's extension when given (its
   // boundary values are the data), else each part's value.
@@ -751,8 +386,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   solution.mesh = cells.mesh();
   if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 
-  int stencil = 1;
-  for (int a = 0; a < D; ++a) stencil *= 2 * n + 1;
+  const StencilLayout<D> layout(n);
+  const int stencil = layout.size;
   const std::size_t relevant = basis.relevant.size();
   std::vector<double> band(relevant * static_cast<std::size_t>(stencil), 0.0);
   std::vector<double> load(relevant, 0.0);
@@ -771,22 +406,11 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const int local_count = grid.local_count();
   // Local trial functions per cell: P's, then (second function) Q's.
   const int local_rows = second ? 2 * local_count : local_count;
-  // Band position of the pair (j, l) of local splines: their offset
-  // difference, numbered in the (2n + 1)^D stencil.
-  std::vector<int> stencil_of_local(static_cast<std::size_t>(local_count));
-  int stencil_centre = 0;
-  for (int k = 0; k < local_count; ++k) {
-    const auto m = LocalSplines<D>::global_index({}, n, k);
-    int position = 0;
-    for (int a = D - 1; a >= 0; --a) position = position * (2 * n + 1) + m[a];
-    stencil_of_local[static_cast<std::size_t>(k)] = position;
-  }
-  for (int a = D - 1; a >= 0; --a) stencil_centre = stencil_centre * (2 * n + 1) + n;
+  const std::vector<int>& stencil_of_local = layout.position;
+  const int stencil_centre = layout.centre;
   const double selector_tolerance = 1e-6 * grid.h;
   const double nitsche_weight = weak_dirichlet ? *report.nitsche_penalty / grid.h : 0.0;
-  // Inside cells all carry the same tensor Gauss rule relative to the
-  // cell, so their local B-splines and gradients at the rule's points are
-  // the same too: tabulated once (point p, spline k at p * local_count + k).
+  // The local B-splines at the inside cells' common rule, tabulated once.
   const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
   // With a constant conductivity and no weight (w = 1: Nitsche's route and
   // the weak route's Neumann problems), every inside cell has the same
@@ -809,11 +433,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
     // Cells go to threads in a fixed pattern and the sums are taken in
     // thread order, so the same run gives the same bits every time.
 #ifdef _OPENMP
-    const int thread = omp_get_thread_num(), threads = omp_get_num_threads();
+    const bool first_thread = omp_get_thread_num() == 0;
 #else
-    const int thread = 0, threads = 1;
+    const bool first_thread = true;
 #endif
-    const bool first_thread = thread == 0;
     std::vector<double> own_band_storage(first_thread ? 0 : band.size(), 0.0);
     std::vector<double>& own_band = first_thread ? band : own_band_storage;
     std::vector<double> own_load(load.size(), 0.0), own_mean(mean_load.size(), 0.0);
@@ -1001,9 +624,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
         }
       }
     }
-    for (int turn = 0; turn < threads; ++turn) {
-#pragma omp barrier
-      if (turn != thread) continue;
+    in_thread_order([&] {
       if (!first_thread)
         for (std::size_t i = 0; i < band.size(); ++i) band[i] += own_band[i];
       for (std::size_t i = 0; i < load.size(); ++i) load[i] += own_load[i];
@@ -1017,7 +638,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
       data_size += own_data_size;
       offset_mean += own_offset_mean;
       if (own_unclaimed && !unclaimed) unclaimed = own_unclaimed;
-    }
+    });
   }
   if (unclaimed)
     throw std::invalid_argument(
@@ -1090,56 +711,12 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   LinearSolverKind kind = options.linear_solver;
   // The structure's second function has functions of very different energy near the band's edge
   // (diagonal entries over 1e14 apart), where incomplete Cholesky needs 1e4 iterations and more.
-  if (kind == LinearSolverKind::Automatic)
-    kind = second   ? LinearSolverKind::Direct
-           : D == 2 ? LinearSolverKind::ConjugateGradient
-                    : LinearSolverKind::JacobiConjugateGradient;
+  // Automatic in 3D: Jacobi, then incomplete Cholesky when Jacobi is too slow (linear_solve.hpp).
+  if (kind == LinearSolverKind::Automatic && (second || D == 2))
+    kind = second ? LinearSolverKind::Direct : LinearSolverKind::ConjugateGradient;
   const double tolerance =
       options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
-  Eigen::VectorXd coefficients;
-  if (kind == LinearSolverKind::Direct) {
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
-    if (factor.info() != Eigen::Success)
-      throw std::runtime_error(
-          "the sparse factorization failed: the system is singular (is the basis stable? try --basis web)");
-    coefficients = factor.solve(right);
-    report.linear_solver = "sparse LDLT (AMD ordering)";
-    report.iterations = 1;
-  } else if (kind == LinearSolverKind::ConjugateGradient) {
-    coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report).x;
-    report.linear_solver = "conjugate gradients, incomplete Cholesky";
-  } else if (options.linear_solver == LinearSolverKind::Automatic) {
-    report.linear_solver = "conjugate gradients, Jacobi";
-    // Jacobi in legs: after each, the rate of the last leg says how many
-    // more iterations it needs (CG's residual falls about geometrically
-    // once past its first fast phase); beyond the budget, incomplete Cholesky.
-    CgResult leg =
-        conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, kJacobiProbe);
-    int spent = kJacobiProbe, length = kJacobiProbe;
-    double start = 1.0;
-    while (!leg.converged) {
-      const double per_iteration = std::log(leg.residual / start) / length;
-      const double more = per_iteration < 0.0 ? std::log(tolerance / leg.residual) / per_iteration
-                                              : std::numeric_limits<double>::infinity();
-      if (spent + more > kJacobiBudget) break;
-      start = leg.residual;
-      length = std::max(kJacobiProbe, static_cast<int>(1.2 * more));
-      leg =
-          conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report, length, &leg.x);
-      spent += length;
-    }
-    if (leg.converged) {
-      coefficients = leg.x;
-    } else {
-      coefficients = conjugate_gradients<Eigen::IncompleteCholesky<double>>(system, right, tolerance, report).x;
-      report.linear_solver =
-          "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then incomplete Cholesky";
-    }
-  } else {
-    coefficients = conjugate_gradients<Eigen::DiagonalPreconditioner<double>>(system, right, tolerance, report).x;
-    report.linear_solver = "conjugate gradients, Jacobi";
-  }
-  if (!coefficients.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
+  Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report);
   const Eigen::Index p_unknowns = E.cols();
   if (pure_neumann)  // zero mean of u = u0 + sum c v: the constant is P's vector of ones
     coefficients.head(p_unknowns).array() -=

@@ -93,7 +93,10 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
   const auto rows = static_cast<Eigen::Index>(basis.relevant.size());
   std::vector<Eigen::Triplet<double>> entries;
   if (kind == BasisKind::Weighted) {
-    for (Eigen::Index r = 0; r < rows; ++r) entries.emplace_back(r, r, 1.0);
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      entries.emplace_back(r, r, 1.0);
+      basis.unknown_spline.push_back(static_cast<std::size_t>(r));
+    }
     basis.extension.resize(rows, rows);
     basis.extension.setFromTriplets(entries.begin(), entries.end());
     return basis;
@@ -102,8 +105,11 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
     throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (use more cells)");
   std::vector<long long> unknown_of(splines, -1);
   long long unknowns = 0;
-  for (std::size_t s : basis.relevant)
-    if (inner[s]) unknown_of[s] = unknowns++;
+  for (std::size_t s : basis.relevant) {
+    if (!inner[s]) continue;
+    unknown_of[s] = unknowns++;
+    basis.unknown_spline.push_back(static_cast<std::size_t>(basis.relevant_of[s]));
+  }
   const std::vector<char> block_ok = full_inner_blocks(grid, inner);
   const int n = grid.degree;
   for (std::size_t s : basis.relevant) {

@@ -85,6 +85,14 @@ struct BackgroundGrid {
     }
     return i;
   }
+  /// The Greville point of spline i (the centre of its support, cells
+  /// i - degree .. i): a linear function's B-spline coefficients are its
+  /// values there.
+  std::array<double, D> greville(const std::array<int, D>& i) const {
+    std::array<double, D> x{};
+    for (int a = 0; a < D; ++a) x[a] = lo[a] + h * (i[a] + 0.5 * (1 - degree));
+    return x;
+  }
   /// Splines nonzero on one cell: (degree + 1)^D.
   int local_count() const {
     int n = 1;

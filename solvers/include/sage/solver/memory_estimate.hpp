@@ -13,6 +13,9 @@
 //     system          2 x relevant x S entries of 12 bytes (the extended matrix and its build)
 //     direct solve    the system's entries again times a fill-in factor (4 in 2D, 20 in 3D)
 //
+// A vector problem of c components per B-spline (elasticity.hpp) has c^2
+// times the band and the system.
+//
 // The cut cells' factor 3 is above what the rule gives for planar faces
 // (1 to 3 pieces of (n + 2)^D points per cell) and round boundaries.
 
@@ -30,7 +33,7 @@ struct MemoryEstimate {
 
 /// The estimate for a grid of the given dimension and degree.
 MemoryEstimate estimate_memory(int dimension, int degree, std::size_t cells_inside, std::size_t cells_cut,
-                               std::size_t relevant_splines, int threads, bool direct_solve);
+                               std::size_t relevant_splines, int threads, bool direct_solve, int components = 1);
 
 /// Memory the system can still give this process, in MB (MemAvailable of
 /// /proc/meminfo; 0 when unknown).

@@ -45,6 +45,10 @@ struct SplineBasis {
   std::size_t inner_count = 0;
   std::size_t outer_count = 0;
   Eigen::SparseMatrix<double> extension;  // relevant x unknowns
+  /// Per unknown, the position in `relevant` of its own B-spline: the
+  /// coefficient of unknown p of a polynomial of degree <= n is the
+  /// polynomial's B-spline coefficient there (the extension keeps them).
+  std::vector<std::size_t> unknown_spline;
   std::size_t unknowns() const { return static_cast<std::size_t>(extension.cols()); }
 };
 

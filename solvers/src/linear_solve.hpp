@@ -1,0 +1,20 @@
+#pragma once
+// The solve of a symmetric positive definite system given by its lower
+// triangle, shared by the solvers: a sparse LDLT, or conjugate gradients
+// with incomplete Cholesky or Jacobi. Automatic means Jacobi in legs,
+// then incomplete Cholesky when Jacobi is too slow (3D systems).
+
+#include <sage/solver/solver_options.hpp>
+
+#include <Eigen/SparseCore>
+
+namespace sage::solver {
+
+/// Solves system x = right (`system`: the lower triangle); records the
+/// solver, its iterations and tolerance in `report`. Throws
+/// std::runtime_error when the factorization fails, conjugate gradients do
+/// not converge or the solution is not finite.
+Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
+                                LinearSolverKind kind, double tolerance, SolveReport& report);
+
+}  // namespace sage::solver
