@@ -1,7 +1,7 @@
 // sage demo [-o DIR]: the main jobs on bundled data. Samples every bundled
 // example model (some with several R-function systems, to compare; a GIS
-// island among them), solves the bundled heat problems, and writes .vtu
-// files for ParaView into DIR.
+// island among them), solves the bundled heat problems and the bracket's
+// stresses, and writes .vtu files for ParaView into DIR.
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -46,7 +46,7 @@ const DemoRun kRuns[] = {
 // clang-format on
 
 // Problems solved after the fields, from the problems folder beside the models.
-const char* const kProblems[] = {"plate_heat.json", "block_with_hole.json"};
+const char* const kProblems[] = {"plate_heat.json", "block_with_hole.json", "bracket.json"};
 
 /// The folder of bundled models: $SAGE_DATA_DIR/models, the source tree
 /// (build tree runs), or <prefix>/share/sage/models next to the program.
@@ -69,8 +69,9 @@ int run_demo(const std::vector<std::string>& args) {
       "Usage: sage demo [-o DIR]\n"
       "Writes fields of the bundled example models (paper 004 figures 9, 12 and 13,\n"
       "a 2D plate under four R-function systems, 3D primitives, a normalized\n"
-      "formula, an island with a lake from GeoJSON) and the solutions of two heat\n"
-      "problems (a 2D plate, a 3D block with a cooling channel) as .vtu files\n"
+      "formula, an island with a lake from GeoJSON), the solutions of two heat\n"
+      "problems (a 2D plate, a 3D block with a cooling channel) and the stresses\n"
+      "in a bolted L-bracket (displacement, stress, von_mises) as .vtu files\n"
       "for ParaView.\n\nOptions");
   options.add_options()("help,h", "show this help")("output,o", po::value(&out_dir),
                                                     "output folder (default sage-demo)");

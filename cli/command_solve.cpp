@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 #include "problem_file.hpp"
+#include "solve_output.hpp"
 
 #include <sage/output/point_arrays.hpp>
 #include <sage/pruned_grid.hpp>
@@ -27,46 +28,8 @@ namespace sage::cli {
 
 namespace {
 
-struct SolveCommand {
-  std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid, robin,
-                                                          dirichlet = "auto";
-  solver::SolverOptions options;
-  std::optional<int> cells;
-  std::optional<double> h;
-  bool quiet = false;
-};
-
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-/// Fields of more instructions than this get their output omega from grid
-/// sampling with far-field patches (pruned_grid.hpp), within this fraction
-/// of the diagonal: a polygon's R0 tree of 718 edges takes 3 s at the 160,801
-/// points of 128 cells, exactly.
-constexpr std::size_t kLargeField = 2000;
-constexpr double kOutputOmegaTolerance = 1e-10;
-
-/// The output grid: --grid, else 4 points per background cell (at most 401
-/// per axis in 2D, 2 and 97 in 3D), over the problem's box.
-Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h) {
-  Grid grid;
-  grid.dimension = problem.dimension;
-  grid.lo = problem.min;
-  grid.hi = problem.max;
-  if (!command.grid.empty()) {
-    try {
-      grid.points = Grid::parse_resolution(command.grid, problem.dimension);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError{std::string("--grid: ") + e.what()};
-    }
-  } else {
-    const int per_cell = problem.dimension == 2 ? 4 : 2, cap = problem.dimension == 2 ? 401 : 97;
-    for (int a = 0; a < problem.dimension; ++a)
-      grid.points[a] = std::clamp(static_cast<int>(std::ceil((grid.hi[a] - grid.lo[a]) / h)) * per_cell + 1, 2, cap);
-  }
-  if (problem.dimension == 2) grid.points[2] = 1;
-  return grid;
 }
 
 template <int D>
@@ -93,16 +56,8 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
     error.values.resize(n);
   }
   // omega: large fields (polygons of many edges) by grid sampling with
-  // far-field patches, within kOutputOmegaTolerance of the diagonal;
-  // mesh domains by the signed distance (the probe).
-  const bool sampled_omega = solution.domain && solution.domain->code().size() > kLargeField;
-  if (sampled_omega) {
-    Approximation approximation;
-    approximation.tolerance = kOutputOmegaTolerance * grid.diagonal();
-    for_each_grid_point_pruned<double>(
-        *solution.domain, grid, [&](std::size_t i, const auto& results) { omega.values[i] = results.result(0); }, {},
-        &approximation);
-  }
+  // far-field patches; mesh domains by the signed distance (the probe).
+  const bool sampled_omega = sample_large_omega(solution.domain, grid, omega.values);
 #pragma omp parallel
   {
     typename solver::PoissonSolution<D>::Probe probe(solution);
@@ -122,30 +77,15 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
       }
     }
   }
-  // Keep the cells with a corner in the domain: they cover it.
-  std::vector<char> keep(grid.cell_count(), 0);
   std::size_t kept = 0;
-  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
-    const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
-    const std::size_t cx = nx - 1, cy = ny - 1;
-    const std::size_t i = c % cx, j = (c / cx) % cy, k = c / cx / cy;
-    for (int corner = 0; corner < (1 << D) && !keep[c]; ++corner) {
-      const std::size_t index = (i + (corner & 1)) + nx * ((j + ((corner >> 1) & 1)) + ny * (k + ((corner >> 2) & 1)));
-      keep[c] = omega.values[index] >= 0 ? 1 : 0;
-    }
-    kept += keep[c] ? 1 : 0;
-  }
+  const std::vector<char> keep = covering_cells(grid, omega.values, kept);
   std::vector<output::PointArray> arrays{u, grad, omega};
   if (problem.exact) {
     arrays.push_back(exact);
     arrays.push_back(error);
   }
   output::write_point_arrays(command.output_path, grid, arrays, keep);
-  if (!command.quadrature_path.empty()) {
-    const solver::QuadratureDump& q = solution.quadrature;
-    output::write_scattered_points(command.quadrature_path, q.coordinates,
-                                   {{"weight", 1, q.weights}, {"on_surface", 1, q.on_surface}});
-  }
+  write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (command.quiet) return;
@@ -164,32 +104,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
     else
       std::printf("  structure multiplier: the global distance field (--robin-band 0)\n");
   }
-  std::printf(
-      "  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface; memory estimate %.0f "
-      "MB\n",
-      r.cells, r.cells_inside, r.cells_cut, r.volume_points, r.surface_points, r.memory_estimate_mb);
-  if (solution.domain && solution.domain->code().size() > kLargeField)
-    std::printf("  output omega: far-field patches within %g of the diagonal (%zu instructions)\n",
-                kOutputOmegaTolerance, solution.domain->code().size());
-  else if (solution.mesh)
-    std::printf("  output omega: signed distance to the mesh, exact within %g cells\n", solver::kMeshDistanceBand);
-  if (r.unbroken_boxes > 0)
-    std::printf(
-        "  mesh: %zu cut cells whose facets bend slightly (or meet many at a vertex) got lines over an unbroken base "
-        "(exact along the lines, not across the bends)\n",
-        r.unbroken_boxes);
-  if (r.masked_boxes > 0 || r.unresolved_surface_boxes > 0)
-    std::printf(
-        "  warning: %zu sub-boxes of cut cells had no height direction and were filled with %zu sign-masked points "
-        "(first-order accurate), and %zu sub-boxes' boundary got no surface points\n",
-        r.masked_boxes, r.masked_points, r.unresolved_surface_boxes);
-  std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
-              r.outer_splines, r.nonzeros);
-  std::printf("  solver: %s, %d iteration%s", r.linear_solver.c_str(), r.iterations, r.iterations == 1 ? "" : "s");
-  if (r.cg_tolerance > 0.0) std::printf(" (relative residual <= %.1e)", r.cg_tolerance);
-  if (std::isfinite(r.condition))
-    std::printf("; condition estimate %.3g (%.3g after diagonal scaling)", r.condition, r.scaled_condition);
-  std::printf("\n");
+  print_solve_report(r, solution.domain, solution.mesh != nullptr);
   if (r.neumann_compatibility)
     std::printf("  pure Neumann: compatibility defect %.1e (relative), mean of u fixed to 0\n",
                 *r.neumann_compatibility);
@@ -212,7 +127,9 @@ int run_solve(const std::vector<std::string>& args) {
       "Solves -div(k grad u) = f with Dirichlet, Neumann and Robin conditions on the\n"
       "domain of PROBLEM.json (see README.md, \"Solving boundary value problems\"),\n"
       "with B-splines on a background grid: no mesh of the domain. Writes point\n"
-      "arrays u, grad_u, omega (and u_exact, error) on the cells covering the domain.\n\n"
+      "arrays u, grad_u, omega (and u_exact, error) on the cells covering the domain.\n"
+      "With \"physics\": \"elasticity\", solves linear elasticity and writes displacement,\n"
+      "stress (xx, yy, zz, xy, yz, xz), von_mises and omega (the --robin options do not apply).\n\n"
       "Options");
   auto add = options.add_options();
   add("help,h", "show this help");
@@ -310,7 +227,11 @@ int run_solve(const std::vector<std::string>& args) {
     for (int a = 0; a < problem.dimension; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
     command.options.cell_width = longest / command.cells.value_or(problem.dimension == 2 ? 64 : 20);
   }
-  if (problem.dimension == 2) {
+  if (file.elasticity && problem.dimension == 2) {
+    solve_elasticity_and_write<2>(command, file);
+  } else if (file.elasticity) {
+    solve_elasticity_and_write<3>(command, file);
+  } else if (problem.dimension == 2) {
     solve_and_write<2>(command, file);
   } else {
     solve_and_write<3>(command, file);

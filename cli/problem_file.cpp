@@ -23,8 +23,22 @@ class Reader {
 
   void read(const Json& top) {
     if (!top.is_object()) fail("", "a problem file is a JSON object");
-    check_keys(top, "",
-               {"name", "description", "domain", "bounds", "conductivity", "source", "boundary", "exact", "robin"});
+    std::string physics = "poisson";
+    if (top.contains("physics")) {
+      if (!top["physics"].is_string()) fail("/physics", "expected \"poisson\" or \"elasticity\"");
+      physics = top["physics"].get<std::string>();
+      if (physics != "poisson" && physics != "elasticity")
+        fail("/physics", "unknown physics \"" + physics + "\" (use \"poisson\" or \"elasticity\")");
+    }
+    if (physics == "elasticity") {
+      check_keys(top, "",
+                 {"name", "description", "physics", "domain", "bounds", "E", "nu", "plane", "body_force", "boundary",
+                  "exact"});
+    } else {
+      check_keys(top, "",
+                 {"name", "description", "physics", "domain", "bounds", "conductivity", "source", "boundary", "exact",
+                  "robin"});
+    }
     if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
     read_domain(top["domain"]);
     solver::PoissonProblem& p = out_.problem;
@@ -32,6 +46,7 @@ class Reader {
     p.domain = out_.model.field;
     p.boundary_mesh = out_.model.surface;
     read_bounds(top);
+    if (physics == "elasticity") return read_elasticity(top);
     if (top.contains("conductivity")) p.conductivity = formula(top["conductivity"], "/conductivity");
     if (top.contains("source")) p.source = formula(top["source"], "/source");
     if (top.contains("exact")) {
@@ -109,6 +124,112 @@ class Reader {
       if (!(p.max[a] > p.min[a])) fail("/bounds", "max must exceed min on every axis");
   }
 
+  double required_number(const Json& top, const char* key) const {
+    const std::string pointer = std::string("/") + key;
+    if (!top.contains(key)) fail(pointer, std::string("missing \"") + key + "\"");
+    if (!top[key].is_number()) fail(pointer, "expected a number");
+    return top[key].get<double>();
+  }
+
+  /// A vector of dimension-many formulas or numbers.
+  std::array<Expr, 3> vector(const Json& value, const std::string& pointer) const {
+    const int d = out_.model.dimension;
+    if (!value.is_array() || static_cast<int>(value.size()) != d)
+      fail(pointer, "expected " + std::to_string(d) + " formulas or numbers, one per axis");
+    std::array<Expr, 3> v{Expr(0.0), Expr(0.0), Expr(0.0)};
+    for (int a = 0; a < d; ++a)
+      v[static_cast<std::size_t>(a)] = formula(value[static_cast<std::size_t>(a)], pointer + "/" + std::to_string(a));
+    return v;
+  }
+
+  void read_elasticity(const Json& top) {
+    solver::ElasticityProblem e;
+    const solver::PoissonProblem& p = out_.problem;
+    e.dimension = p.dimension;
+    e.domain = p.domain;
+    e.boundary_mesh = p.boundary_mesh;
+    e.min = p.min;
+    e.max = p.max;
+    e.material.young = required_number(top, "E");
+    if (!(e.material.young > 0.0)) fail("/E", "Young's modulus E must be positive");
+    e.material.poisson = required_number(top, "nu");
+    if (!(e.material.poisson > -1.0 && e.material.poisson < 0.5))
+      fail("/nu", "Poisson's ratio nu must lie in (-1, 0.5), not " + top["nu"].dump());
+    if (top.contains("plane")) {
+      if (e.dimension != 2) fail("/plane", "\"plane\" (stress or strain) applies to 2D problems only");
+      if (!top["plane"].is_string()) fail("/plane", "expected \"stress\" or \"strain\"");
+      try {
+        e.material.plane = solver::parse_plane_mode(top["plane"].get<std::string>());
+      } catch (const std::invalid_argument& error) {
+        fail("/plane", error.what());
+      }
+    }
+    if (top.contains("body_force")) e.body_force = vector(top["body_force"], "/body_force");
+    if (top.contains("exact")) {
+      e.exact = vector(top["exact"], "/exact");
+      out_.exact_formula = top["exact"].dump();
+    }
+    if (top.contains("boundary")) {
+      const Json& boundary = top["boundary"];
+      if (!boundary.is_object()) fail("/boundary", "expected an object mapping part names to conditions");
+      for (const auto& [name, condition] : boundary.items()) {
+        const std::string pointer = "/boundary/" + name;
+        solver::ElasticPart part = read_elastic_part(condition, pointer, name);
+        if (name == "default") {
+          if (condition.contains("selector")) fail(pointer + "/selector", "the default part takes no selector");
+          e.rest = part;
+          continue;
+        }
+        part.selector = selector(condition, pointer, name);
+        e.parts.push_back(part);
+      }
+    }
+    out_.elasticity = e;
+  }
+
+  solver::ElasticPart read_elastic_part(const Json& c, const std::string& pointer, const std::string& name) const {
+    if (!c.is_object()) fail(pointer, "expected an object with \"displacement\", \"traction\" or \"pressure\"");
+    check_keys(c, pointer, {"displacement", "traction", "pressure", "selector"});
+    solver::ElasticPart part;
+    part.name = name;
+    if (c.contains("displacement")) {
+      const Json& u = c["displacement"];
+      const std::string at = pointer + "/displacement";
+      if (!u.is_object() || u.empty())
+        fail(at, "expected the fixed components, e.g. {\"x\": 0, \"y\": 0} (a roller gives one)");
+      for (const auto& [axis, value] : u.items()) {
+        const auto position = std::string("xyz").find(axis);
+        if (axis.size() != 1 || position == std::string::npos || static_cast<int>(position) >= out_.model.dimension)
+          fail(at + "/" + axis,
+               "unknown component \"" + axis + "\" (use " + (out_.model.dimension == 2 ? "x, y" : "x, y, z") + ")");
+        part.displacement[position] = formula(value, at + "/" + axis);
+      }
+    }
+    if (c.contains("traction")) part.traction = vector(c["traction"], pointer + "/traction");
+    if (c.contains("pressure")) part.pressure = formula(c["pressure"], pointer + "/pressure");
+    part.loaded = c.contains("traction") || c.contains("pressure");
+    if (part.fixed() && part.loaded)
+      fail(pointer,
+           "a part is either fixed (\"displacement\") or loaded (\"traction\", \"pressure\"), not both: "
+           "split it into two parts (a roller's free components are traction-free)");
+    if (c.contains("traction") && c.contains("pressure")) fail(pointer, "give \"traction\" or \"pressure\", not both");
+    return part;
+  }
+
+  /// A named part's selector: its own "selector" formula, or the model's part of that name.
+  Expr selector(const Json& condition, const std::string& pointer, const std::string& name) const {
+    if (condition.contains("selector")) return formula(condition["selector"], pointer + "/selector");
+    const auto named = out_.model.named.find(name);
+    if (named == out_.model.named.end()) {
+      std::string known;
+      for (const auto& [n, e] : out_.model.named) known += (known.empty() ? "" : ", ") + n;
+      fail(pointer, "unknown boundary part '" + name + "': the model names " +
+                        (known.empty() ? std::string("no parts") : known) +
+                        " (or give a \"selector\" formula that vanishes on the part)");
+    }
+    return named->second;
+  }
+
   solver::BoundaryPart read_condition(const Json& c, const std::string& pointer, const std::string& name) const {
     if (!c.is_object()) fail(pointer, "expected an object with \"type\"");
     check_keys(c, pointer, {"type", "value", "flux", "beta", "selector"});
@@ -153,19 +274,7 @@ class Reader {
         p.rest = part;
         continue;
       }
-      if (condition.contains("selector")) {
-        part.selector = formula(condition["selector"], pointer + "/selector");
-      } else {
-        const auto named = out_.model.named.find(name);
-        if (named == out_.model.named.end()) {
-          std::string known;
-          for (const auto& [n, e] : out_.model.named) known += (known.empty() ? "" : ", ") + n;
-          fail(pointer, "unknown boundary part '" + name + "': the model names " +
-                            (known.empty() ? std::string("no parts") : known) +
-                            " (or give a \"selector\" formula that vanishes on the part)");
-        }
-        part.selector = named->second;
-      }
+      part.selector = selector(condition, pointer, name);
       p.parts.push_back(part);
     }
   }

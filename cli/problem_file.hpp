@@ -1,10 +1,12 @@
 #pragma once
 // Problem files for `sage solve` (schema in README.md, "Solving boundary
 // value problems"): a domain (inline JSON CSG model or the path of any
-// model sage reads), the data of -div(k grad u) = f as formulas, boundary
-// conditions on named parts, and an optional exact solution.
+// model sage reads), the data of -div(k grad u) = f or, with "physics":
+// "elasticity", of linear elasticity as formulas, boundary conditions on
+// named parts, and an optional exact solution.
 
 #include <sage/geometry/model.hpp>
+#include <sage/solver/elasticity.hpp>
 #include <sage/solver/problem.hpp>
 #include <sage/solver/trial_structure.hpp>
 
@@ -22,6 +24,9 @@ class ProblemError : public std::runtime_error {
 };
 
 struct ProblemFile {
+  /// "physics": "poisson" (the default) fills `problem`; "elasticity" fills
+  /// `elasticity` (and `problem`'s domain, box and dimension).
+  std::optional<solver::ElasticityProblem> elasticity;
   solver::PoissonProblem problem;
   geometry::Model model;
   std::string exact_formula;                // empty when none

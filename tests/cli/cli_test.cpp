@@ -156,9 +156,10 @@ TEST(Cli, DemoWritesEveryFile) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
-  EXPECT_EQ(files, 15);  // 13 fields and 2 solutions
+  EXPECT_EQ(files, 16);  // 13 fields, 2 heat solutions and the bracket's stresses
   EXPECT_TRUE(fs::exists(dir / "island_with_lake.vtu"));
   EXPECT_TRUE(fs::exists(dir / "block_with_hole.vtu"));
+  EXPECT_TRUE(fs::exists(dir / "bracket.vtu"));
 }
 
 // ---- bad input: message names the file and place, exit code non-zero ----------

@@ -1,0 +1,92 @@
+#include "solve_output.hpp"
+
+#include <sage/output/point_arrays.hpp>
+#include <sage/pruned_grid.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sage::cli {
+
+Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h) {
+  Grid grid;
+  grid.dimension = problem.dimension;
+  grid.lo = problem.min;
+  grid.hi = problem.max;
+  if (!command.grid.empty()) {
+    try {
+      grid.points = Grid::parse_resolution(command.grid, problem.dimension);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{std::string("--grid: ") + e.what()};
+    }
+  } else {
+    const int per_cell = problem.dimension == 2 ? 4 : 2, cap = problem.dimension == 2 ? 401 : 97;
+    for (int a = 0; a < problem.dimension; ++a)
+      grid.points[a] = std::clamp(static_cast<int>(std::ceil((grid.hi[a] - grid.lo[a]) / h)) * per_cell + 1, 2, cap);
+  }
+  if (problem.dimension == 2) grid.points[2] = 1;
+  return grid;
+}
+
+bool sample_large_omega(const std::shared_ptr<const Tape>& domain, const Grid& grid, std::vector<double>& omega) {
+  if (!domain || domain->code().size() <= kLargeField) return false;
+  Approximation approximation;
+  approximation.tolerance = kOutputOmegaTolerance * grid.diagonal();
+  for_each_grid_point_pruned<double>(
+      *domain, grid, [&](std::size_t i, const auto& results) { omega[i] = results.result(0); }, {}, &approximation);
+  return true;
+}
+
+std::vector<char> covering_cells(const Grid& grid, const std::vector<double>& omega, std::size_t& kept) {
+  std::vector<char> keep(grid.cell_count(), 0);
+  kept = 0;
+  const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
+  const std::size_t cx = nx - 1, cy = ny - 1;
+  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
+    const std::size_t i = c % cx, j = (c / cx) % cy, k = c / cx / cy;
+    for (int corner = 0; corner < (1 << grid.dimension) && !keep[c]; ++corner) {
+      const std::size_t index = (i + (corner & 1)) + nx * ((j + ((corner >> 1) & 1)) + ny * (k + ((corner >> 2) & 1)));
+      keep[c] = omega[index] >= 0 ? 1 : 0;
+    }
+    kept += keep[c] ? 1 : 0;
+  }
+  return keep;
+}
+
+void write_quadrature(const SolveCommand& command, const solver::QuadratureDump& q) {
+  if (command.quadrature_path.empty()) return;
+  output::write_scattered_points(command.quadrature_path, q.coordinates,
+                                 {{"weight", 1, q.weights}, {"on_surface", 1, q.on_surface}});
+}
+
+void print_solve_report(const solver::SolveReport& r, const std::shared_ptr<const Tape>& domain, bool mesh) {
+  std::printf(
+      "  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface; memory estimate %.0f "
+      "MB\n",
+      r.cells, r.cells_inside, r.cells_cut, r.volume_points, r.surface_points, r.memory_estimate_mb);
+  if (domain && domain->code().size() > kLargeField)
+    std::printf("  output omega: far-field patches within %g of the diagonal (%zu instructions)\n",
+                kOutputOmegaTolerance, domain->code().size());
+  else if (mesh)
+    std::printf("  output omega: signed distance to the mesh, exact within %g cells\n", solver::kMeshDistanceBand);
+  if (r.unbroken_boxes > 0)
+    std::printf(
+        "  mesh: %zu cut cells whose facets bend slightly (or meet many at a vertex) got lines over an unbroken base "
+        "(exact along the lines, not across the bends)\n",
+        r.unbroken_boxes);
+  if (r.masked_boxes > 0 || r.unresolved_surface_boxes > 0)
+    std::printf(
+        "  warning: %zu sub-boxes of cut cells had no height direction and were filled with %zu sign-masked points "
+        "(first-order accurate), and %zu sub-boxes' boundary got no surface points\n",
+        r.masked_boxes, r.masked_points, r.unresolved_surface_boxes);
+  std::printf("  unknowns: %zu (%zu inner B-splines, %zu outer), %zu nonzeros\n", r.unknowns, r.inner_splines,
+              r.outer_splines, r.nonzeros);
+  std::printf("  solver: %s, %d iteration%s", r.linear_solver.c_str(), r.iterations, r.iterations == 1 ? "" : "s");
+  if (r.cg_tolerance > 0.0) std::printf(" (relative residual <= %.1e)", r.cg_tolerance);
+  if (std::isfinite(r.condition))
+    std::printf("; condition estimate %.3g (%.3g after diagonal scaling)", r.condition, r.scaled_condition);
+  std::printf("\n");
+}
+
+}  // namespace sage::cli
