@@ -6,7 +6,6 @@
 
 #include "commands.hpp"
 #include "field_job.hpp"
-#include "problem_file.hpp"
 #include "solve_output.hpp"
 
 #include <sage/output/point_arrays.hpp>
@@ -216,7 +215,7 @@ int run_solve(const std::vector<std::string>& args) {
     }
   }
 
-  const ProblemFile file = read_problem_file(command.problem_path);
+  const ProblemFile file = problems::read_problem_file(command.problem_path);
   const solver::PoissonProblem& problem = file.problem;
   command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));
   command.options.estimate_condition = vm.count("condition") > 0;

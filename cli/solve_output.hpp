@@ -4,7 +4,8 @@
 // domain field on it, and the grid cells that cover the domain.
 
 #include "commands.hpp"
-#include "problem_file.hpp"
+
+#include <sage/problems/problem_file.hpp>
 
 #include <sage/grid.hpp>
 #include <sage/solver/solver_options.hpp>
@@ -16,6 +17,8 @@
 #include <vector>
 
 namespace sage::cli {
+
+using problems::ProblemFile;
 
 struct SolveCommand {
   std::string problem_path, output_path, quadrature_path, basis = "web", linear_solver = "auto", grid, robin,

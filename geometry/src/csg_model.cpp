@@ -2,6 +2,7 @@
 #include <sage/bounded.hpp>
 #include <sage/formula.hpp>
 #include <sage/geometry/csg_model.hpp>
+#include <sage/geometry/json_fields.hpp>
 #include <sage/normalize.hpp>
 #include <sage/primitives.hpp>
 #include <sage/trimming.hpp>
@@ -15,8 +16,6 @@
 #include <sstream>
 
 namespace sage::geometry {
-
-using Json = nlohmann::json;
 
 namespace {
 
@@ -34,13 +33,10 @@ std::string line_and_column(const std::string& text, std::size_t byte) {
 }
 
 /// Reads nodes, keeping the file name and the JSON pointer for messages.
-class Reader {
+class Reader : JsonFields<ModelError> {
  public:
-  Reader(Model& model, const ModelOptions& options) : model_(model), options_(options) {}
-
-  [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
-    throw ModelError(model_.source + ": at " + (pointer.empty() ? "/" : pointer) + ": " + message);
-  }
+  Reader(Model& model, const ModelOptions& options)
+      : JsonFields<ModelError>(model.source), model_(model), options_(options) {}
 
   void read_top(const Json& top) {
     if (!top.is_object()) fail("", "a model must be a JSON object");
@@ -59,46 +55,15 @@ class Reader {
   }
 
  private:
-  // ---- small typed accessors ------------------------------------------------
-  void allow_keys(const Json& j, const std::string& at, std::initializer_list<const char*> keys) const {
-    const std::set<std::string> allowed(keys.begin(), keys.end());
-    for (const auto& [key, value] : j.items())
-      if (!allowed.count(key)) {
-        std::string list;
-        for (const auto& k : allowed) list += (list.empty() ? "" : ", ") + k;
-        fail(at + "/" + key, "unknown key \"" + key + "\" here (allowed: " + list + ")");
-      }
-  }
-
-  double number(const Json& j, const std::string& at) const {
-    if (!j.is_number()) fail(at, "expected a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) fail(at, "number is not finite");
-    return v;
-  }
-  double number_at(const Json& j, const char* key, const std::string& at) const {
-    if (!j.contains(key)) fail(at, std::string("missing parameter \"") + key + "\"");
-    return number(j[key], at + "/" + key);
-  }
+  // ---- small typed accessors (the rest in json_fields.hpp) -----------------
   double positive_at(const Json& j, const char* key, const std::string& at) const {
     const double v = number_at(j, key, at);
     if (!(v > 0)) fail(at + "/" + key, "must be positive");
     return v;
   }
-  std::string string_at(const Json& j, const char* key, const std::string& at) const {
-    if (!j[key].is_string()) fail(at + "/" + key, "expected a string");
-    return j[key].get<std::string>();
-  }
   Vec3 vector_at(const Json& j, const char* key, const std::string& at, int n) const {
     if (!j.contains(key)) fail(at, std::string("missing parameter \"") + key + "\"");
     return point(j[key], at + "/" + key, n);
-  }
-  Vec3 point(const Json& v, const std::string& here, int n) const {
-    if (!v.is_array() || static_cast<int>(v.size()) != n)
-      fail(here, "expected an array of " + std::to_string(n) + " numbers");
-    Vec3 r{0, 0, 0};
-    for (int i = 0; i < n; ++i) r[i] = number(v[i], here + "/" + std::to_string(i));
-    return r;
   }
   RSystem rsystem(const std::string& text, const std::string& at) const {
     try {

@@ -1,9 +1,8 @@
-#include "problem_file.hpp"
+#include <sage/problems/problem_file.hpp>
 
 #include <sage/formula.hpp>
 #include <sage/geometry/csg_model.hpp>
-
-#include <nlohmann/json.hpp>
+#include <sage/geometry/json_fields.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -11,15 +10,15 @@
 #include <set>
 #include <sstream>
 
-namespace sage::cli {
+namespace sage::problems {
 
 namespace {
 
-using Json = nlohmann::json;
+using geometry::Json;
 
-class Reader {
+class Reader : geometry::JsonFields<ProblemError> {
  public:
-  Reader(std::string path, ProblemFile& out) : path_(std::move(path)), out_(out) {}
+  Reader(std::string path, ProblemFile& out) : JsonFields<ProblemError>(path), path_(std::move(path)), out_(out) {}
 
   void read(const Json& top) {
     if (!top.is_object()) fail("", "a problem file is a JSON object");
@@ -31,11 +30,11 @@ class Reader {
         fail("/physics", "unknown physics \"" + physics + "\" (use \"poisson\" or \"elasticity\")");
     }
     if (physics == "elasticity") {
-      check_keys(top, "",
+      allow_keys(top, "",
                  {"name", "description", "physics", "domain", "bounds", "E", "nu", "plane", "body_force", "boundary",
                   "exact"});
     } else {
-      check_keys(top, "",
+      allow_keys(top, "",
                  {"name", "description", "physics", "domain", "bounds", "conductivity", "source", "boundary", "exact",
                   "robin"});
     }
@@ -65,17 +64,8 @@ class Reader {
   }
 
  private:
-  [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
-    throw ProblemError(path_ + ": at " + (pointer.empty() ? "/" : pointer) + ": " + message);
-  }
-
-  void check_keys(const Json& object, const std::string& pointer, const std::set<std::string>& allowed) const {
-    for (const auto& [key, value] : object.items())
-      if (!allowed.count(key)) fail(pointer + "/" + key, "unknown key \"" + key + "\"");
-  }
-
   Expr formula(const Json& value, const std::string& pointer) const {
-    if (value.is_number()) return Expr(value.get<double>());
+    if (value.is_number()) return Expr(number(value, pointer));
     if (!value.is_string()) fail(pointer, "expected a formula (string) or a number");
     try {
       return parse_formula(value.get<std::string>(), out_.model.dimension);
@@ -107,10 +97,7 @@ class Reader {
         fail("/bounds", "expected { \"min\": [...], \"max\": [...] }");
       for (const char* key : {"min", "max"}) {
         const Json& v = b[key];
-        if (!v.is_array() || static_cast<int>(v.size()) != d ||
-            !std::all_of(v.begin(), v.end(), [](const Json& x) { return x.is_number(); }))
-          fail(std::string("/bounds/") + key, "expected " + std::to_string(d) + " numbers");
-        for (int a = 0; a < d; ++a) (key[1] == 'i' ? p.min : p.max)[a] = v[static_cast<std::size_t>(a)].get<double>();
+        (key[1] == 'i' ? p.min : p.max) = point(v, std::string("/bounds/") + key, d);
       }
     } else if (out_.model.bounds) {
       for (int a = 0; a < d; ++a) {
@@ -122,13 +109,6 @@ class Reader {
     }
     for (int a = 0; a < d; ++a)
       if (!(p.max[a] > p.min[a])) fail("/bounds", "max must exceed min on every axis");
-  }
-
-  double required_number(const Json& top, const char* key) const {
-    const std::string pointer = std::string("/") + key;
-    if (!top.contains(key)) fail(pointer, std::string("missing \"") + key + "\"");
-    if (!top[key].is_number()) fail(pointer, "expected a number");
-    return top[key].get<double>();
   }
 
   /// A vector of dimension-many formulas or numbers.
@@ -150,9 +130,9 @@ class Reader {
     e.boundary_mesh = p.boundary_mesh;
     e.min = p.min;
     e.max = p.max;
-    e.material.young = required_number(top, "E");
+    e.material.young = number_at(top, "E", "");
     if (!(e.material.young > 0.0)) fail("/E", "Young's modulus E must be positive");
-    e.material.poisson = required_number(top, "nu");
+    e.material.poisson = number_at(top, "nu", "");
     if (!(e.material.poisson > -1.0 && e.material.poisson < 0.5))
       fail("/nu", "Poisson's ratio nu must lie in (-1, 0.5), not " + top["nu"].dump());
     if (top.contains("plane")) {
@@ -189,7 +169,7 @@ class Reader {
 
   solver::ElasticPart read_elastic_part(const Json& c, const std::string& pointer, const std::string& name) const {
     if (!c.is_object()) fail(pointer, "expected an object with \"displacement\", \"traction\" or \"pressure\"");
-    check_keys(c, pointer, {"displacement", "traction", "pressure", "selector"});
+    allow_keys(c, pointer, {"displacement", "traction", "pressure", "selector"});
     solver::ElasticPart part;
     part.name = name;
     if (c.contains("displacement")) {
@@ -232,7 +212,7 @@ class Reader {
 
   solver::BoundaryPart read_condition(const Json& c, const std::string& pointer, const std::string& name) const {
     if (!c.is_object()) fail(pointer, "expected an object with \"type\"");
-    check_keys(c, pointer, {"type", "value", "flux", "beta", "selector"});
+    allow_keys(c, pointer, {"type", "value", "flux", "beta", "selector"});
     if (!c.contains("type") || !c["type"].is_string()) fail(pointer, "missing \"type\": dirichlet, neumann or robin");
     solver::BoundaryPart part;
     part.name = name;
@@ -240,7 +220,7 @@ class Reader {
     auto allow_only = [&](std::set<std::string> keys) {
       keys.insert("type");
       keys.insert("selector");
-      check_keys(c, pointer, keys);
+      allow_keys(c, pointer, keys);
     };
     if (type == "dirichlet") {
       allow_only({"value"});
@@ -305,4 +285,4 @@ ProblemFile read_problem_file(const std::string& path) {
   return out;
 }
 
-}  // namespace sage::cli
+}  // namespace sage::problems

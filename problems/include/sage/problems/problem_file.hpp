@@ -1,6 +1,6 @@
 #pragma once
-// Problem files for `sage solve` (schema in README.md, "Solving boundary
-// value problems"): a domain (inline JSON CSG model or the path of any
+// Problem files for `sage solve` and library users (schema in README.md,
+// "Solving boundary value problems"): a domain (inline JSON CSG model or the path of any
 // model sage reads), the data of -div(k grad u) = f or, with "physics":
 // "elasticity", of linear elasticity as formulas, boundary conditions on
 // named parts, and an optional exact solution.
@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace sage::cli {
+namespace sage::problems {
 
 /// Bad problem file: the message names the file, the JSON pointer (or
 /// line:column for malformed JSON) and what is wrong.
@@ -37,4 +37,4 @@ struct ProblemFile {
 /// a domain model that cannot be read).
 ProblemFile read_problem_file(const std::string& path);
 
-}  // namespace sage::cli
+}  // namespace sage::problems
