@@ -81,12 +81,68 @@ TEST(CliSolveElasticity, LameCylinderMatchesItsExactSolution) {
   EXPECT_GT(checked, 1000u);
 }
 
-TEST(CliSolveElasticity, BracketExampleRuns) {
+TEST(CliSolveElasticity, BracketExamplesRun) {
+  // The 3D angle bracket, coarse: bolted, so no free motion either.
+  const Result solid = run("solve " + std::string(SAGE_SOURCE_DIR) + "/examples/problems/bracket_3d.json -o " +
+                           scratch("bracket_3d.vtu").string() + " --degree 2 --cells 12");
+  ASSERT_EQ(solid.exit_code, 0) << solid.output;
+  EXPECT_NE(solid.output.find("3D linear elasticity"), std::string::npos) << solid.output;
+  EXPECT_EQ(solid.output.find("free body"), std::string::npos) << solid.output;
+
   const Result r = run("solve " + std::string(SAGE_SOURCE_DIR) + "/examples/problems/bracket.json -o " +
                        scratch("bracket.vtu").string() + " --cells 48");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("plane stress"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("free body"), std::string::npos) << r.output;  // bolted: no free motion
+}
+
+TEST(CliSolveElasticity, MeshSolidUnderUniaxialTension) {
+  // The cube [0,1]^3 as 12 triangles (OFF), rollers on x = 0, y = 0, z = 0
+  // (selector formulas: a mesh names no parts), traction s on z = 1: the
+  // uniaxial stress u = (-nu s x, -nu s y, s z) / E, linear, so reproduced
+  // up to the solver's tolerance; cut cells come from the triangles.
+  write_file("tension_cube.off", R"(OFF
+8 12 0
+0 0 0
+1 0 0
+1 1 0
+0 1 0
+0 0 1
+1 0 1
+1 1 1
+0 1 1
+3 0 2 1
+3 0 3 2
+3 4 5 6
+3 4 6 7
+3 0 1 5
+3 0 5 4
+3 2 3 7
+3 2 7 6
+3 1 2 6
+3 1 6 5
+3 3 0 4
+3 3 4 7
+)");
+  const std::string problem = write_file("tension_cube.json", R"json({
+  "physics": "elasticity",
+  "domain": "tension_cube.off",
+  "bounds": { "min": [-0.05, -0.05, -0.05], "max": [1.05, 1.05, 1.05] },
+  "E": 200, "nu": 0.25,
+  "boundary": {
+    "left": { "selector": "x", "displacement": { "x": 0 } },
+    "front": { "selector": "y", "displacement": { "y": 0 } },
+    "bottom": { "selector": "z", "displacement": { "z": 0 } },
+    "top": { "selector": "z - 1", "traction": [0, 0, 2] } },
+  "exact": ["-0.0025*x", "-0.0025*y", "0.01*z"]
+})json");
+  const Result r = run("solve " + problem + " -o " + scratch("tension_cube.vtu").string() +
+                       " --degree 2 --cells 5 --tolerance 1e-13");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto at = r.output.find("relative errors: L2 ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_LT(std::stod(r.output.substr(at + 20)), 1e-9) << r.output;
+  EXPECT_NE(r.output.find("signed distance to the mesh"), std::string::npos) << r.output;
 }
 
 TEST(CliSolveElasticity, BadInputNamesFileAndPlace) {
