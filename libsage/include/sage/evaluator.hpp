@@ -14,6 +14,7 @@
 //     Evaluator<Tuple<2, 4>> tuples(tape);
 //     Tuple<2, 4> t = tuples.at({0.5, 0.25});   // value and partials to order 4
 
+#include <sage/chebyshev_patch.hpp>
 #include <sage/classifier.hpp>
 #include <sage/interval.hpp>
 #include <sage/rfunction.hpp>

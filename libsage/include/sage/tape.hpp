@@ -11,7 +11,6 @@
 // Several roots may be compiled together (a field and its gradient, say);
 // shared subexpressions are then computed once per point.
 
-#include <sage/chebyshev_patch.hpp>
 #include <sage/expression.hpp>
 
 #include <array>
@@ -19,6 +18,8 @@
 #include <vector>
 
 namespace sage {
+
+class ChebyshevPatch;  // chebyshev_patch.hpp: Op::Patch instructions point to one
 
 struct Instruction {
   Op op;
