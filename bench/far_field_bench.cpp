@@ -13,10 +13,10 @@
 //        ../shared, joint.off; "balls": 1,000 random balls united by R0
 //        and by min/max, written as JSON models to the temporary folder.
 
-#include <sage/field_samples.hpp>
 #include <sage/geometry/model.hpp>
-#include <sage/tape.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/tape/tape.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <algorithm>
 #include <cctype>

@@ -17,15 +17,15 @@
 //        the M x M parts to the fields whose names contain it; CHECKS
 //        random grid points for the deviation, default 2000)
 
-#include <sage/evaluator.hpp>
-#include <sage/field_samples.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_brep.hpp>
 #include <sage/geometry/polygon_csg.hpp>
 #include <sage/geometry/polygon_validation.hpp>
-#include <sage/grid.hpp>
-#include <sage/primitives.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/grid.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <omp.h>
 

@@ -9,9 +9,9 @@
 // ratio to its baseline measured in the same run (by component against a
 // tuple at a time, rows against point by point).
 
-#include <sage/chebyshev_patch.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/rfunction_lanes.hpp>
+#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/scalars/rfunction_lanes.hpp>
 
 #include <benchmark/benchmark.h>
 

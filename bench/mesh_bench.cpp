@@ -9,11 +9,11 @@
 //
 // Usage: mesh_bench [MESH] [N] [RFUNCTION ...]   (defaults: bunny00.off, 128, minmax r0)
 
-#include <sage/evaluator.hpp>
-#include <sage/field_samples.hpp>
 #include <sage/geometry/mesh_model.hpp>
-#include <sage/grid.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/grid.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <chrono>
 #include <cstdio>

@@ -10,8 +10,8 @@
 // Usage: render_bench [WIDTHxHEIGHT] [MODEL.json ...]
 //   (defaults: 320x240, every model in examples/gallery/)
 
+#include <sage/expression/primitives.hpp>
 #include <sage/geometry/model.hpp>
-#include <sage/primitives.hpp>
 #include <sage/render/solid.hpp>
 
 #include <omp.h>

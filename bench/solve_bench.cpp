@@ -31,8 +31,8 @@
 //   solve_bench [disk|ball|robin [DEGREE...]|solids [DEGREE...]|elasticity|all]   (OMP_NUM_THREADS=1 for one-thread
 //   figures)
 
-#include <sage/derivative.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 

@@ -6,8 +6,8 @@
 // Prints Google Benchmark's table, then each case's time per point as a
 // ratio to the hand-written baseline measured in the same run.
 
-#include <sage/evaluator.hpp>
 #include <sage/geometry/csg_model.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <benchmark/benchmark.h>
 

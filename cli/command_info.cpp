@@ -3,10 +3,10 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 
-#include <sage/evaluator.hpp>
-#include <sage/field_samples.hpp>
-#include <sage/tape.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <boost/program_options.hpp>
 

@@ -4,10 +4,10 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 
-#include <sage/grid.hpp>
 #include <sage/output/png_writer.hpp>
 #include <sage/render/field_map.hpp>
 #include <sage/render/solid.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <boost/program_options.hpp>
 

@@ -3,9 +3,9 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
-#include <sage/field_samples.hpp>
 #include <sage/output/vtk_writer.hpp>
-#include <sage/tape.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <algorithm>
 #include <chrono>

@@ -2,9 +2,9 @@
 // One field job: read a model, sample its field on a grid, write a VTK
 // file. Shared by `sage field` and `sage demo`.
 
-#include <sage/field_samples.hpp>
 #include <sage/geometry/model.hpp>
-#include <sage/grid.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <boost/program_options.hpp>
 

@@ -2,7 +2,7 @@
 // A one-line progress indicator for long runs, shown only when standard
 // error is a terminal (so logs and pipes stay clean).
 
-#include <sage/grid.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <string>
 

@@ -1,7 +1,7 @@
 #include "solve_output.hpp"
 
 #include <sage/output/point_arrays.hpp>
-#include <sage/pruned_grid.hpp>
+#include <sage/sampling/pruned_grid.hpp>
 
 #include <algorithm>
 #include <cmath>

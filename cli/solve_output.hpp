@@ -7,7 +7,7 @@
 
 #include <sage/problems/problem_file.hpp>
 
-#include <sage/grid.hpp>
+#include <sage/sampling/grid.hpp>
 #include <sage/solver/solver_options.hpp>
 
 #include <functional>

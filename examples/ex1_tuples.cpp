@@ -9,8 +9,8 @@
 //               interval (a guaranteed range over a box). This is the
 //               core loop of sage; every later example builds on it.
 
-#include <sage/evaluator.hpp>
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <cmath>
 #include <cstdio>

@@ -9,8 +9,8 @@
 //               value and gradient at the corner itself. Adds to example 1:
 //               R-function nodes and the choice of system.
 
-#include <sage/evaluator.hpp>
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <cmath>
 #include <cstdio>

@@ -11,8 +11,8 @@
 //               right close to the half-line. Adds to example 2: trimming
 //               operators built from two fields.
 
-#include <sage/evaluator.hpp>
-#include <sage/trimming.hpp>
+#include <sage/expression/trimming.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -8,9 +8,9 @@
 //               grad_omega, grad_norm and d2_omega to a .vtu file for
 //               ParaView. Adds to example 3: model files, grids, output.
 
-#include <sage/field_samples.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/output/vtk_writer.hpp>
+#include <sage/sampling/field_samples.hpp>
 
 #include <algorithm>
 #include <cstdio>

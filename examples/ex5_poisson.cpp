@@ -10,7 +10,7 @@
 //               field omega >= 0: no mesh is made. Adds to example 4: the
 //               solver (what `sage solve` does, see examples/problems/).
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 

@@ -14,12 +14,12 @@
 //               the same signs. Exits 1 if a check fails. Adds to example
 //               4: GIS data, normalization, the far field.
 
-#include <sage/evaluator.hpp>
-#include <sage/field_samples.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_csg.hpp>
 #include <sage/geometry/polygon_validation.hpp>
 #include <sage/output/vtk_writer.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
 #include <cmath>

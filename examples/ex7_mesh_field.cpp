@@ -14,10 +14,10 @@
 //               and writes it for ParaView. Exits 1 if a check fails.
 //               Adds to example 6: meshes, 3D.
 
-#include <sage/evaluator.hpp>
-#include <sage/field_samples.hpp>
 #include <sage/geometry/model.hpp>
 #include <sage/output/vtk_writer.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
 #include <array>

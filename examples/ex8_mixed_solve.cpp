@@ -16,9 +16,9 @@
 //               examples/problems/block_with_hole.json. Adds to example 5:
 //               solids, named parts, Neumann and Robin conditions.
 
-#include <sage/derivative.hpp>
-#include <sage/primitives.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/scalars/rfunction.hpp>
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 

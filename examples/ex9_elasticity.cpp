@@ -15,7 +15,7 @@
 //               stress output (what `sage solve` does with
 //               "physics": "elasticity", see examples/problems/bracket.json).
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/elasticity.hpp>
 
 #include <cmath>

@@ -1,11 +1,11 @@
-#include <sage/blend.hpp>
-#include <sage/bounded.hpp>
-#include <sage/formula.hpp>
+#include <sage/expression/blend.hpp>
+#include <sage/expression/bounded.hpp>
+#include <sage/expression/formula.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/expression/trimming.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/geometry/json_fields.hpp>
-#include <sage/normalize.hpp>
-#include <sage/primitives.hpp>
-#include <sage/trimming.hpp>
 
 #include <nlohmann/json.hpp>
 

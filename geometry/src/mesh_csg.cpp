@@ -8,7 +8,7 @@
 // (exactly) and are merged into one plane.
 #include "mesh_internal.hpp"
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 
 #include <cmath>
 #include <map>

@@ -27,7 +27,7 @@
 // component that is not a proper solid is reported as the reason.
 #include "mesh_internal.hpp"
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 
 #include <CGAL/convex_hull_3.h>
 

@@ -27,7 +27,7 @@
 // depend on the tree's shape (R-functions are not associative).
 #include "mesh_internal.hpp"
 
-#include <sage/trimming.hpp>
+#include <sage/expression/trimming.hpp>
 
 #include <algorithm>
 #include <cmath>

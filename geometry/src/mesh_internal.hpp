@@ -9,8 +9,8 @@
 //   brep_distance / convex_csg     mesh_field.cpp, mesh_csg.cpp
 //   deficiency_csg / shells_csg    mesh_deficiency.cpp, mesh_shells.cpp
 
-#include <sage/classifier.hpp>
-#include <sage/expression.hpp>
+#include <sage/expression/classifier.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/geometry/model.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

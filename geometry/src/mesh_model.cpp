@@ -8,8 +8,8 @@
 
 #include "mesh_internal.hpp"
 
-#include <sage/evaluator.hpp>
-#include <sage/tape.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <algorithm>
 #include <cctype>

@@ -1,5 +1,5 @@
+#include <sage/expression/trimming.hpp>
 #include <sage/geometry/polygon_brep.hpp>
-#include <sage/trimming.hpp>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 

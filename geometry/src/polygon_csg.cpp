@@ -1,5 +1,5 @@
+#include <sage/expression/trimming.hpp>
 #include <sage/geometry/polygon_csg.hpp>
-#include <sage/trimming.hpp>
 
 #include <CGAL/Convex_hull_traits_adapter_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>

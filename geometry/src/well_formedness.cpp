@@ -1,7 +1,7 @@
-#include <sage/evaluator.hpp>
 #include <sage/geometry/polygon_brep.hpp>
 #include <sage/geometry/well_formedness.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <algorithm>
 #include <array>

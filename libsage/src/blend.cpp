@@ -1,4 +1,4 @@
-#include <sage/blend.hpp>
+#include <sage/expression/blend.hpp>
 
 #include <cmath>
 #include <limits>

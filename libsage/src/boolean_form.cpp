@@ -1,4 +1,4 @@
-#include <sage/boolean_form.hpp>
+#include <sage/expression/boolean_form.hpp>
 
 #include <algorithm>
 #include <array>

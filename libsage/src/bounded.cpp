@@ -1,6 +1,6 @@
-#include <sage/bounded.hpp>
-#include <sage/evaluator.hpp>
-#include <sage/tape.hpp>
+#include <sage/expression/bounded.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
-#include <sage/chebyshev_patch.hpp>
-#include <sage/tuple.hpp>
+#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/scalars/tuple.hpp>
 
 #include "also_avx2.hpp"
 

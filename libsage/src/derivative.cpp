@@ -1,4 +1,4 @@
-#include <sage/derivative.hpp>
+#include <sage/expression/derivative.hpp>
 
 #include <stdexcept>
 #include <unordered_map>

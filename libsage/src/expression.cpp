@@ -1,4 +1,4 @@
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 #include <cmath>
 #include <stdexcept>

@@ -1,8 +1,8 @@
 #include "partial_bounds.hpp"
 #include "tape_specializer_state.hpp"
 
-#include <sage/evaluator.hpp>
-#include <sage/far_field.hpp>
+#include <sage/sampling/far_field.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
 #include <array>

@@ -1,6 +1,6 @@
-#include <sage/field_samples.hpp>
-#include <sage/pruned_grid.hpp>
-#include <sage/tuple.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/pruned_grid.hpp>
+#include <sage/scalars/tuple.hpp>
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include <sage/formula.hpp>
+#include <sage/expression/formula.hpp>
 
 #include <cctype>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include <sage/grid.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <cmath>
 #include <sstream>

@@ -1,5 +1,5 @@
-#include <sage/derivative.hpp>
-#include <sage/normalize.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/normalize.hpp>
 
 namespace sage {
 

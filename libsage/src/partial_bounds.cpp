@@ -1,6 +1,6 @@
 #include "partial_bounds.hpp"
 
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <algorithm>
 #include <cmath>

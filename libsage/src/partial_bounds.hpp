@@ -7,8 +7,8 @@
 // "wrong" sign: a patch under a few such nodes deviates several times its
 // tail.) Internal to libsage.
 
-#include <sage/interval.hpp>
-#include <sage/tape.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <cstdint>
 #include <vector>

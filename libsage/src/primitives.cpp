@@ -1,5 +1,5 @@
-#include <sage/normalize.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/expression/primitives.hpp>
 
 #include <cmath>
 #include <stdexcept>

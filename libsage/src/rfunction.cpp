@@ -1,4 +1,4 @@
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <cmath>
 #include <sstream>

@@ -13,9 +13,9 @@
 // other lane's: so `out` may be `x` or `y`, and `#pragma GCC ivdep` tells
 // the compiler that no iteration depends on another even then.
 
-#include <sage/rfunction_lanes.hpp>
+#include <sage/scalars/rfunction_lanes.hpp>
 
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include "also_avx2.hpp"
 

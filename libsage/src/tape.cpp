@@ -1,4 +1,4 @@
-#include <sage/tape.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <stdexcept>
 #include <string>

@@ -1,6 +1,6 @@
 #include "tape_specializer_state.hpp"
 
-#include <sage/evaluator.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
 #include <array>

@@ -3,8 +3,8 @@
 // exact pruning (tape_specialization.cpp) and far-field approximation
 // (far_field.cpp).
 
-#include <sage/batch_evaluator.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <array>
 #include <cstdint>

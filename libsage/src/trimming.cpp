@@ -1,6 +1,6 @@
-#include <sage/derivative.hpp>
-#include <sage/normalize.hpp>
-#include <sage/trimming.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/expression/trimming.hpp>
 
 #include <cmath>
 #include <stdexcept>

@@ -1,6 +1,6 @@
 #include <sage/problems/problem_file.hpp>
 
-#include <sage/formula.hpp>
+#include <sage/expression/formula.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/geometry/json_fields.hpp>
 

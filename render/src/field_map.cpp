@@ -1,8 +1,8 @@
 #include <sage/render/field_map.hpp>
 
-#include <sage/evaluator.hpp>
-#include <sage/tape.hpp>
-#include <sage/tuple.hpp>
+#include <sage/scalars/tuple.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include <sage/derivative.hpp>
+#include <sage/expression/derivative.hpp>
 #include <sage/render/ray_cast.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <algorithm>
 #include <cmath>

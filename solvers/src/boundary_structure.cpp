@@ -1,6 +1,6 @@
-#include <sage/evaluator.hpp>
 #include <sage/solver/boundary_structure.hpp>
-#include <sage/tape.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <cmath>
 #include <stdexcept>

@@ -4,8 +4,8 @@
 // pieces (domain_quadrature.cpp) or the planes of a mesh's triangles in a
 // cell (mesh_domain.cpp). Internal to the solver library.
 
-#include <sage/boolean_form.hpp>
-#include <sage/interval.hpp>
+#include <sage/expression/boolean_form.hpp>
+#include <sage/scalars/interval.hpp>
 #include <sage/solver/domain_quadrature.hpp>
 
 #include <array>

@@ -18,7 +18,7 @@
 #include <sage/solver/solver_options.hpp>
 #include <sage/solver/web_basis.hpp>
 
-#include <sage/evaluator.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <array>
 #include <memory>

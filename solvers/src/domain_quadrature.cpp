@@ -1,6 +1,6 @@
 #include "cut_cell_rule.hpp"
 
-#include <sage/derivative.hpp>
+#include <sage/expression/derivative.hpp>
 #include <sage/solver/domain_quadrature.hpp>
 
 #include <algorithm>

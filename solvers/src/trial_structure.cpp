@@ -1,6 +1,6 @@
-#include <sage/derivative.hpp>
-#include <sage/normalize.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/scalars/rfunction.hpp>
 #include <sage/solver/boundary_structure.hpp>
 #include <sage/solver/trial_structure.hpp>
 

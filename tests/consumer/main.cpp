@@ -1,7 +1,7 @@
 // Uses the installed sage: a normalized disk, its value and gradient at a
 // boundary point. Exits 0 when |grad| = 1 there.
-#include <sage/evaluator.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <cmath>
 #include <cstdio>

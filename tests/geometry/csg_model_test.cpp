@@ -1,9 +1,9 @@
 // JSON CSG models: the bundled examples load and mean what they say, and
 // every kind of bad input gives a ModelError naming the file and the place.
 
-#include <sage/evaluator.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/geometry/csg_model.hpp>
-#include <sage/primitives.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // and area; harmless defects are fixed and counted; every fault gives a
 // ModelError naming the file, feature, ring and vertex.
 
-#include <sage/evaluator.hpp>
 #include <sage/geometry/gis_model.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_validation.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
 

@@ -7,9 +7,9 @@
 //    clear fallback when it does not terminate;
 //  - every validation fault is a ModelError naming the file and the face.
 
-#include <sage/evaluator.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/geometry/mesh_model.hpp>
-#include <sage/primitives.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>

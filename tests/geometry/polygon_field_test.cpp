@@ -8,12 +8,12 @@
 
 #include "polygon_test_support.hpp"
 
-#include <sage/evaluator.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_brep.hpp>
 #include <sage/geometry/polygon_csg.hpp>
 #include <sage/geometry/polygon_validation.hpp>
 #include <sage/geometry/well_formedness.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 // 001): each node means the same as the library call it names, and bad
 // parameters are reported at their JSON pointer.
 
-#include <sage/blend.hpp>
-#include <sage/bounded.hpp>
-#include <sage/evaluator.hpp>
+#include <sage/expression/blend.hpp>
+#include <sage/expression/bounded.hpp>
 #include <sage/geometry/csg_model.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
 

@@ -12,10 +12,10 @@
 
 #include "test_support.hpp"
 
-#include <sage/batch_evaluator.hpp>
-#include <sage/primitives.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <gtest/gtest.h>
 

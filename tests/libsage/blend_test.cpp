@@ -6,7 +6,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/blend.hpp>
+#include <sage/expression/blend.hpp>
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 // box by the pieces' enclosures keeps it true to the field there.
 #include "test_support.hpp"
 
-#include <sage/boolean_form.hpp>
-#include <sage/interval.hpp>
-#include <sage/normalize.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/boolean_form.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/scalars/interval.hpp>
 
 #include <gtest/gtest.h>
 

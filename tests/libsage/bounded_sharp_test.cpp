@@ -11,8 +11,8 @@
 
 #include "test_support.hpp"
 
-#include <sage/bounded.hpp>
-#include <sage/derivative.hpp>
+#include <sage/expression/bounded.hpp>
+#include <sage/expression/derivative.hpp>
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/bounded.hpp>
+#include <sage/expression/bounded.hpp>
 
 #include <gtest/gtest.h>
 

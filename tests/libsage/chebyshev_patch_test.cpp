@@ -8,12 +8,12 @@
 
 #include "test_support.hpp"
 
-#include <sage/chebyshev_patch.hpp>
-#include <sage/field_samples.hpp>
-#include <sage/primitives.hpp>
-#include <sage/pruned_grid.hpp>
-#include <sage/tape_specialization.hpp>
-#include <sage/trimming.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/expression/trimming.hpp>
+#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/pruned_grid.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/formula.hpp>
+#include <sage/expression/formula.hpp>
 
 #include <gtest/gtest.h>
 

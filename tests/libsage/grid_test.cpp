@@ -7,9 +7,9 @@
 
 #include "test_support.hpp"
 
-#include <sage/field_samples.hpp>
-#include <sage/formula.hpp>
-#include <sage/grid.hpp>
+#include <sage/expression/formula.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <gtest/gtest.h>
 

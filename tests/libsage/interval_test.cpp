@@ -8,10 +8,10 @@
 
 #include "test_support.hpp"
 
-#include <sage/formula.hpp>
-#include <sage/interval.hpp>
-#include <sage/primitives.hpp>
-#include <sage/trimming.hpp>
+#include <sage/expression/formula.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/expression/trimming.hpp>
+#include <sage/scalars/interval.hpp>
 
 #include <gtest/gtest.h>
 

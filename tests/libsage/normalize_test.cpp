@@ -6,7 +6,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/normalize.hpp>
+#include <sage/expression/normalize.hpp>
 
 #include <gtest/gtest.h>
 

@@ -8,8 +8,8 @@
 
 #include "../../libsage/src/partial_bounds.hpp"
 
-#include <sage/evaluator.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
 

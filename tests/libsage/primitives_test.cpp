@@ -7,7 +7,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 
 #include <gtest/gtest.h>
 

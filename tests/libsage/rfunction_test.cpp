@@ -16,7 +16,7 @@
 
 #include "test_support.hpp"
 
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <gtest/gtest.h>
 

@@ -6,11 +6,11 @@
 
 #include "test_support.hpp"
 
-#include <sage/field_samples.hpp>
-#include <sage/grid.hpp>
-#include <sage/primitives.hpp>
-#include <sage/pruned_grid.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/grid.hpp>
+#include <sage/sampling/pruned_grid.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <gtest/gtest.h>
 

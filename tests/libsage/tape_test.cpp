@@ -13,10 +13,10 @@
 
 #include "test_support.hpp"
 
-#include <sage/derivative.hpp>
-#include <sage/evaluator.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tape.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <gtest/gtest.h>
 

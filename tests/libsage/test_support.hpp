@@ -5,14 +5,14 @@
 // kAllOps, written independently of libsage, with the domain where it is
 // smooth) used by the tape and interval sweeps.
 
-#include <sage/classifier.hpp>
-#include <sage/derivative.hpp>
-#include <sage/evaluator.hpp>
-#include <sage/expression.hpp>
-#include <sage/opcode.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tape.hpp>
-#include <sage/tuple.hpp>
+#include <sage/expression/classifier.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/opcode.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/scalars/tuple.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <array>
 #include <cmath>

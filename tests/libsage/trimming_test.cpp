@@ -14,8 +14,8 @@
 
 #include "test_support.hpp"
 
-#include <sage/normalize.hpp>
-#include <sage/trimming.hpp>
+#include <sage/expression/normalize.hpp>
+#include <sage/expression/trimming.hpp>
 
 #include <gtest/gtest.h>
 

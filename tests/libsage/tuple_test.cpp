@@ -7,10 +7,10 @@
 
 #include "test_support.hpp"
 
-#include <sage/derivative.hpp>
-#include <sage/interval.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tuple.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/scalars/tuple.hpp>
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // VTK output: files written by sage read back with VTK's own readers, with
 // the named arrays, the grid geometry and the sampled values.
 
-#include <sage/field_samples.hpp>
-#include <sage/formula.hpp>
+#include <sage/expression/formula.hpp>
 #include <sage/output/vtk_writer.hpp>
+#include <sage/sampling/field_samples.hpp>
 
 #include <vtkDataArray.h>
 #include <vtkImageData.h>

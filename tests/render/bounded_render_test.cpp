@@ -9,8 +9,8 @@
 // not a time; the loose intervals took 98,000 per ray on an 8x6 picture).
 // The same holds for the sharp transition (issue 5).
 
-#include <sage/bounded.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/bounded.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/render/ray_cast.hpp>
 #include <sage/render/solid.hpp>
 

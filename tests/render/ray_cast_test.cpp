@@ -4,7 +4,7 @@
 // interval bisection never misses a thin shell that point sampling along
 // the ray misses, however thin.
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/render/ray_cast.hpp>
 
 #include <gtest/gtest.h>

@@ -6,8 +6,8 @@
 // zero contour dark and colour inside and outside apart; PNG files
 // round-trip through VTK's reader.
 
+#include <sage/expression/primitives.hpp>
 #include <sage/output/png_writer.hpp>
-#include <sage/primitives.hpp>
 #include <sage/render/field_map.hpp>
 #include <sage/render/solid.hpp>
 

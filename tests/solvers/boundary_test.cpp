@@ -2,10 +2,10 @@
 // data on its piece; omega_D vanishes exactly on the Dirichlet parts and is
 // oriented positive inside; problems the solver does not pose are refused,
 // pure Neumann problems flagged.
-#include <sage/evaluator.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/boundary_structure.hpp>
-#include <sage/tape.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <gtest/gtest.h>
 

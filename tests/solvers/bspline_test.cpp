@@ -1,7 +1,7 @@
 // The B-spline basis: the worked example of bspline.hpp, partition of
 // unity, derivatives against finite differences, and the WEB extension's
 // promise to keep polynomials.
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/bspline.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/web_basis.hpp>

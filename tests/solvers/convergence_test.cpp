@@ -4,7 +4,7 @@
 // structure omega * Phi + g~ has work to do).
 #include "manufactured.hpp"
 
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,9 @@
 // states only its exact solution, its domain and its boundary data; and
 // refinement studies with observed rates.
 
-#include <sage/derivative.hpp>
-#include <sage/expression.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 

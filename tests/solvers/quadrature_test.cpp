@@ -1,7 +1,7 @@
 // Quadrature over implicit domains: areas, moments and perimeters of disks
 // and balls against closed forms, to accuracy far beyond what a
 // subdivision rule reaches, and convergence of high order under refinement.
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/background_grid.hpp>
 #include <sage/solver/domain_quadrature.hpp>
 

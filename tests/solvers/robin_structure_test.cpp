@@ -13,9 +13,9 @@
 // prints both routes and both weights).
 #include "manufactured.hpp"
 
-#include <sage/evaluator.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tape.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <gtest/gtest.h>
 

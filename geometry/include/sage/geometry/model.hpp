@@ -3,9 +3,9 @@
 // triangle meshes) becomes -- one expression of the field core plus what a
 // user should know about how it was made.
 
-#include <sage/expression.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/triangle_surface.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/triangle_surface.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <array>
 #include <map>

@@ -6,10 +6,10 @@
 // that vanishes exactly on the boundary, and w is signed by exact point
 // membership: field = xi(p) w(p).
 
-#include <sage/classifier.hpp>
-#include <sage/expression.hpp>
+#include <sage/expression/classifier.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/geometry/polygon.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <memory>
 #include <vector>

@@ -33,9 +33,9 @@
 // Rings must be validated (polygon_validation.hpp): simple, outer rings
 // counter-clockwise, holes clockwise, no collinear consecutive vertices.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/geometry/polygon.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 namespace sage::geometry {
 

@@ -8,7 +8,7 @@
 // but where omega changes sign between sample points proves a spurious
 // zero: the field is then reported NOT well-formed.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/geometry/model.hpp>
 #include <sage/geometry/polygon.hpp>
 

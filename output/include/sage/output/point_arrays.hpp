@@ -4,7 +4,7 @@
 // Points no kept cell uses are left out. Same VTK writer settings as
 // vtk_writer.hpp (binary, appended, LZ4).
 
-#include <sage/grid.hpp>
+#include <sage/sampling/grid.hpp>
 
 #include <string>
 #include <vector>

@@ -10,7 +10,7 @@
 // and d<k>_omega for each higher order k in the samples, with one named
 // component per partial ("xx", "xy", ...).
 
-#include <sage/field_samples.hpp>
+#include <sage/sampling/field_samples.hpp>
 
 #include <stdexcept>
 #include <string>

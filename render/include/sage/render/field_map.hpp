@@ -5,7 +5,7 @@
 // in pixels, so lines stay even where the field is steep or flat. Uses all
 // OpenMP threads.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/output/rgb_image.hpp>
 #include <sage/render/camera.hpp>
 

@@ -22,10 +22,10 @@
 // Ownership: a RayCaster borrows nothing; it owns its tapes. One
 // RayCaster per thread (it holds evaluators); tracers share nothing.
 
-#include <sage/evaluator.hpp>
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/render/camera.hpp>
-#include <sage/tape.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <memory>
 #include <optional>

@@ -5,7 +5,7 @@
 // diffuse + specular (Blinn-Phong) light from one direction, optional
 // shadows (a second ray towards the light). Uses all OpenMP threads.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 #include <sage/output/rgb_image.hpp>
 #include <sage/render/camera.hpp>
 #include <sage/render/ray_cast.hpp>

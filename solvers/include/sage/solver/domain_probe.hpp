@@ -4,9 +4,9 @@
 // a mesh, the signed distance to its triangles, exact within
 // kMeshDistanceBand cell widths of the surface and clamped to that beyond.
 
-#include <sage/evaluator.hpp>
 #include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/solver_options.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <array>
 #include <memory>

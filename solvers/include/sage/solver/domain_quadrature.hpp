@@ -48,12 +48,12 @@
 // Ownership: DomainPieces compiles the pieces once and is shared
 // (read-only) by the CellQuadrature objects, one per thread.
 
-#include <sage/boolean_form.hpp>
-#include <sage/evaluator.hpp>
-#include <sage/expression.hpp>
-#include <sage/interval.hpp>
+#include <sage/expression/boolean_form.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/scalars/interval.hpp>
 #include <sage/solver/background_grid.hpp>
-#include <sage/tape.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <array>
 #include <cstdint>

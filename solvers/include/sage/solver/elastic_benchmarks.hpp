@@ -5,7 +5,7 @@
 // carries its exact displacement; the data on its boundary come from the
 // exact stress, so the discrete solution converges to it.
 
-#include <sage/primitives.hpp>
+#include <sage/expression/primitives.hpp>
 #include <sage/solver/elasticity.hpp>
 
 #include <array>

@@ -35,12 +35,12 @@
 // motions are linear, so their coefficients in the basis are their values
 // at the B-splines' Greville points.
 
-#include <sage/evaluator.hpp>
 #include <sage/solver/domain_probe.hpp>
 #include <sage/solver/elastic_material.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/solver_options.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <Eigen/Core>
 

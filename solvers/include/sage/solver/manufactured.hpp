@@ -2,10 +2,10 @@
 // Helpers for manufactured-solution studies (tests, benchmarks, examples):
 // pick an exact solution u, and the source term and boundary data follow.
 
-#include <sage/derivative.hpp>
-#include <sage/expression.hpp>
-#include <sage/primitives.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/derivative.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/primitives.hpp>
+#include <sage/scalars/rfunction.hpp>
 #include <sage/solver/problem.hpp>
 
 #include <array>

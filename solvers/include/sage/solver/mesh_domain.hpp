@@ -30,9 +30,9 @@
 // Ownership: MeshDomain shares the surface and is read-only after
 // construction; make one MeshCellQuadrature per thread.
 
+#include <sage/expression/triangle_surface.hpp>
 #include <sage/solver/background_grid.hpp>
 #include <sage/solver/domain_quadrature.hpp>
-#include <sage/triangle_surface.hpp>
 
 #include <array>
 #include <cstdint>

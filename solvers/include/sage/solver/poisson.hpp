@@ -31,7 +31,6 @@
 // vector of ones in both bases (partition of unity; the WEB extension
 // keeps constants).
 
-#include <sage/evaluator.hpp>
 #include <sage/solver/domain_probe.hpp>
 #include <sage/solver/domain_quadrature.hpp>
 #include <sage/solver/local_splines.hpp>
@@ -40,6 +39,7 @@
 #include <sage/solver/solver_options.hpp>
 #include <sage/solver/trial_structure.hpp>
 #include <sage/solver/web_basis.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <Eigen/Core>
 

@@ -13,8 +13,8 @@
 // or to `rest` when no selector vanishes. Selectors may have either sign
 // inside the domain; the solver orients them.
 
-#include <sage/expression.hpp>
-#include <sage/triangle_surface.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/triangle_surface.hpp>
 
 #include <array>
 #include <memory>

@@ -16,7 +16,7 @@
 // Errors throw FormulaError with the 1-based column of the offending
 // character and what was expected there.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 #include <stdexcept>
 #include <string>

@@ -24,8 +24,8 @@
 //                 orthogonal to grad h, which restores |grad| = 1 near the
 //                 border point when h = 0 and t = 0 meet at an angle.
 
-#include <sage/expression.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 namespace sage {
 

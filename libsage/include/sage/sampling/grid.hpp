@@ -6,9 +6,9 @@
 // index = i + nx (j + ny k). A grid of n points along an axis spans
 // [lo, hi] inclusive with spacing (hi - lo) / (n - 1).
 
-#include <sage/evaluator.hpp>
-#include <sage/interval.hpp>
-#include <sage/tape.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <algorithm>
 #include <array>

@@ -6,7 +6,7 @@
 // the compiler turns into vector instructions without shuffling the
 // components of neighbouring tuples apart.
 
-#include <sage/tuple.hpp>
+#include <sage/scalars/tuple.hpp>
 
 #include <cstddef>
 #include <type_traits>

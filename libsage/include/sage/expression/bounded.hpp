@@ -65,8 +65,8 @@
 // slopes in [0, 1]. The profile does not apply (refused): it would move the
 // level-C curve off the corner.
 
-#include <sage/expression.hpp>
-#include <sage/primitives.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/expression/primitives.hpp>
 
 #include <vector>
 

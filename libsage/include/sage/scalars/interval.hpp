@@ -19,7 +19,7 @@
 // Division by an interval containing 0 gives the whole line. Singular-point
 // conventions (step(0) = 1/2, div_safe(x, 0) = 0) are enclosed too.
 
-#include <sage/scalar.hpp>
+#include <sage/scalars/scalar.hpp>
 
 #include <algorithm>
 #include <cmath>

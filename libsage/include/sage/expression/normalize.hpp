@@ -8,7 +8,7 @@
 // smooth wherever f is. grad f comes from symbolic differentiation, so the
 // normalized field has derivatives of every order like any expression.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 namespace sage {
 

@@ -27,8 +27,8 @@
 //
 // Singular points follow scalar.hpp (sqrt at 0: constant 0 tuple, and so on).
 
-#include <sage/multi_index.hpp>
-#include <sage/scalar.hpp>
+#include <sage/scalars/multi_index.hpp>
+#include <sage/scalars/scalar.hpp>
 
 #include <algorithm>
 #include <array>

@@ -26,10 +26,10 @@
 //     if (auto smaller = specializer.specialize(box.data())) use(*smaller);
 //     else use(tape);   // nothing to prune over this box
 
-#include <sage/far_field.hpp>
-#include <sage/interval.hpp>
-#include <sage/tape.hpp>
-#include <sage/tuple.hpp>
+#include <sage/sampling/far_field.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/scalars/tuple.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <array>
 #include <memory>

@@ -30,7 +30,7 @@
 // (a far edge beside a near one) its patch may be coarser. Either way each
 // patch moves the roots by at most the tolerance, to first order.
 
-#include <sage/tape.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <cstddef>
 

@@ -11,7 +11,7 @@
 // Several roots may be compiled together (a field and its gradient, say);
 // shared subexpressions are then computed once per point.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 #include <array>
 #include <cstdint>

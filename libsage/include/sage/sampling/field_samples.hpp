@@ -10,9 +10,9 @@
 //            variables they differentiate ("xx", "xy", "yy", ...).
 //            Values are derivatives, not Taylor coefficients.
 
-#include <sage/grid.hpp>
-#include <sage/tape.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/grid.hpp>
+#include <sage/tape/tape.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <string>
 #include <vector>

@@ -29,7 +29,7 @@
 //     // form.pieces = {a, b}; form.formula: piece 0 AND NOT piece 1
 //     form.formula.holds([](std::size_t i) { return i == 0; });   // true
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 #include <cstdint>
 #include <functional>

@@ -28,8 +28,8 @@
 //
 // Ownership: patches are immutable and shared by the tapes that use them.
 
-#include <sage/interval.hpp>
-#include <sage/tuple_lanes.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/scalars/tuple_lanes.hpp>
 
 #include <array>
 #include <memory>

@@ -19,9 +19,9 @@
 // Construction folds constants and drops neutral elements (x + 0, x * 1,
 // x * 0), so derivative graphs stay small.
 
-#include <sage/classifier.hpp>
-#include <sage/opcode.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/classifier.hpp>
+#include <sage/expression/opcode.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <array>
 #include <memory>

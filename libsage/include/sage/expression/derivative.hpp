@@ -10,7 +10,7 @@
 // derivatives, again matching tuples. R-function nodes are differentiated
 // through their formula (rfunction.hpp instantiated with Expr).
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 #include <vector>
 

@@ -26,7 +26,7 @@
 // the argument, not with comparisons, so intervals and tuples follow them.
 // n = 0 gives plain min/max for every function.
 
-#include <sage/expression.hpp>
+#include <sage/expression/expression.hpp>
 
 namespace sage {
 

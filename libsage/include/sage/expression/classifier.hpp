@@ -11,7 +11,7 @@
 // Ownership: expressions and tapes share the classifier (shared_ptr); it
 // must be safe to call from several threads at once.
 
-#include <sage/interval.hpp>
+#include <sage/scalars/interval.hpp>
 
 namespace sage {
 

@@ -24,8 +24,8 @@
 // Every function throws std::invalid_argument on a bad parameter
 // (non-positive radius, zero direction, ...), saying which.
 
-#include <sage/expression.hpp>
-#include <sage/rfunction.hpp>
+#include <sage/expression/expression.hpp>
+#include <sage/scalars/rfunction.hpp>
 
 #include <array>
 

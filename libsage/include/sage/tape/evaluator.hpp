@@ -14,12 +14,12 @@
 //     Evaluator<Tuple<2, 4>> tuples(tape);
 //     Tuple<2, 4> t = tuples.at({0.5, 0.25});   // value and partials to order 4
 
-#include <sage/chebyshev_patch.hpp>
-#include <sage/classifier.hpp>
-#include <sage/interval.hpp>
-#include <sage/rfunction.hpp>
-#include <sage/tape.hpp>
-#include <sage/tuple.hpp>
+#include <sage/expression/classifier.hpp>
+#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/scalars/rfunction.hpp>
+#include <sage/scalars/tuple.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <array>
 #include <type_traits>

@@ -13,9 +13,9 @@
 // not bit-identical, within the stated tolerance, and fast for R-function
 // trees that pruning cannot touch.
 
-#include <sage/batch_evaluator.hpp>
-#include <sage/grid.hpp>
-#include <sage/tape_specialization.hpp>
+#include <sage/sampling/grid.hpp>
+#include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/tape_specialization.hpp>
 
 #include <algorithm>
 #include <array>

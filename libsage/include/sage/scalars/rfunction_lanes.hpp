@@ -4,8 +4,8 @@
 // gradients): R-function trees spend most of their time in the roots and
 // divisions of these nodes.
 
-#include <sage/tuple.hpp>
-#include <sage/tuple_lanes.hpp>
+#include <sage/scalars/tuple.hpp>
+#include <sage/scalars/tuple_lanes.hpp>
 
 #include <cstddef>
 

@@ -19,9 +19,9 @@
 //     batch.evaluate(points.data(), points.size());   // at most 64 points
 //     double w = batch.result(3).value();             // root 0 at point 3
 
-#include <sage/evaluator.hpp>
-#include <sage/rfunction_lanes.hpp>
-#include <sage/tuple_lanes.hpp>
+#include <sage/scalars/rfunction_lanes.hpp>
+#include <sage/scalars/tuple_lanes.hpp>
+#include <sage/tape/evaluator.hpp>
 
 #include <array>
 #include <cstddef>

@@ -29,8 +29,8 @@
 // halfspaces is symmetric in them up to the pairing, values do not drift
 // with the position in a long chain, and interval bounds stay tight.
 
-#include <sage/interval.hpp>
-#include <sage/scalar.hpp>
+#include <sage/scalars/interval.hpp>
+#include <sage/scalars/scalar.hpp>
 
 #include <cmath>
 #include <stdexcept>
