@@ -448,6 +448,8 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
       for (int c = 0; c < D; ++c) rigid(c * N + p, m) = u[c];
     }
   }
+  std::array<double, D> box_centre{};
+  for (int a = 0; a < D; ++a) box_centre[a] = centre[a];
   const Eigen::MatrixXd energy = rigid.transpose() * (system.template selfadjointView<Eigen::Lower>() * rigid);
   const Eigen::MatrixXd scale = rigid.transpose() * system.diagonal().asDiagonal() * rigid;
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(energy, scale);
@@ -471,7 +473,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
       throw std::invalid_argument("unbalanced loads on a free body: the displacement conditions leave " +
                                   std::to_string(free) + " rigid motion" + (free == 1 ? "" : "s") +
                                   " free, and the loads do work on them (net force " + force + "), moment " + moment +
-                                  (D == 2 ? "" : ")") + " about " + point_text<3>(centre) + "; relative defect " +
+                                  (D == 2 ? "" : ")") + " about " + point_text<D>(box_centre) + "; relative defect " +
                                   scientific(defect) + "): balance the loads or fix the body somewhere");
     }
     // Remove the quadrature-level remainder, then pin one unknown per

@@ -21,7 +21,6 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -48,10 +47,6 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle
 using Vec3 = std::array<double, 3>;
 
 std::string shared_mesh(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/meshes/" + name; }
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // A scratch directory for the small files the tests write.
 fs::path scratch() {
@@ -229,9 +224,7 @@ GradReport check_gradients(const sage::Tape& tape, const Mesh& mesh, int n, doub
 
 void check_real_mesh(const std::string& name, int sign_points, int grad_points) {
   const std::string path = shared_mesh(name);
-  auto t0 = std::chrono::steady_clock::now();
   const Model m = load_mesh(path, with_method("brep"));
-  const double load_time = seconds_since(t0);
   EXPECT_EQ(m.dimension, 3);
   EXPECT_TRUE(has_note(m, "method: brep")) << all_notes(m);
   ASSERT_EQ(m.primitives.size(), 1u);
@@ -240,25 +233,21 @@ void check_real_mesh(const std::string& name, int sign_points, int grad_points) 
   const Reference ref(path);
   const double diag = std::hypot(m.bounds->max[0] - m.bounds->min[0], m.bounds->max[1] - m.bounds->min[1],
                                  m.bounds->max[2] - m.bounds->min[2]);
-  t0 = std::chrono::steady_clock::now();
   const SignReport s = check_signs(m, tape, ref, sign_points, 1e-9 * diag, 7);
-  const double sign_time = seconds_since(t0);
   EXPECT_EQ(s.mismatches, 0) << name;
-  t0 = std::chrono::steady_clock::now();
   const double offset = 1e-12 * diag;
   const GradReport g = check_gradients(tape, ref.mesh, grad_points, offset, 11);
-  const double grad_time = seconds_since(t0);
   EXPECT_LT(g.max_error, 1e-6) << name;
   EXPECT_LT(g.max_direction_error, 1e-6) << name;
   // At a larger offset the deviation is O(offset / w_j) (the R0 gluing's
   // d(x AND y)/dx = 1 - x / sqrt(x^2 + y^2)), so it vanishes in the limit.
   const GradReport g9 = check_gradients(tape, ref.mesh, std::min(grad_points, 20), 1e-9, 11);
   EXPECT_LT(g9.max_error, 1e-4) << name;
-  std::cout << "[mesh] " << name << ": load+field " << load_time << " s, tape " << tape.code().size()
-            << " instructions; signs at " << s.points << " points (" << s.skipped << " in the band) in " << sign_time
-            << " s (2 threads): " << s.mismatches << " mismatches; |grad| at " << g.points << " face points, offset "
-            << offset << ": max ||grad|-1| = " << g.max_error << " (" << grad_time
-            << " s); offset 1e-9: " << g9.max_error << "\n";
+  // What was checked (timings are bench/mesh_bench's).
+  std::cout << "[mesh] " << name << ": tape " << tape.code().size() << " instructions; signs at " << s.points
+            << " points (" << s.skipped << " in the band): " << s.mismatches << " mismatches; |grad| at " << g.points
+            << " face points, offset " << offset << ": max ||grad|-1| = " << g.max_error
+            << "; offset 1e-9: " << g9.max_error << "\n";
 }
 
 // Point counts keep the suite at a few seconds in Release (the plain tape
@@ -659,9 +648,7 @@ TEST(MeshDeficiency, IslandInACavity) {
 // and wrap-around regions); each falls back to the brep field and says so.
 TEST(MeshDeficiency, RealMeshesThatDoNotTerminateSaySo) {
   for (const std::string name : {"joint.off", "pinion.off", "fandisk.off"}) {
-    const auto t0 = std::chrono::steady_clock::now();
     const Model m = load_mesh(shared_mesh(name), {});
-    std::cout << "[mesh csg] " << name << ": load " << seconds_since(t0) << " s\n";
     for (const auto& n : m.notes)
       if (n.find("method: csg") != std::string::npos) std::cout << "[mesh csg]   " << n << "\n";
     EXPECT_TRUE(has_note(m, "has no face on its own convex hull")) << all_notes(m);
