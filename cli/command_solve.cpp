@@ -9,7 +9,6 @@
 #include "solve_output.hpp"
 
 #include <sage/output/point_arrays.hpp>
-#include <sage/sampling/pruned_grid.hpp>
 #include <sage/solver/bspline.hpp>
 #include <sage/solver/poisson.hpp>
 

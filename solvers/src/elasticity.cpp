@@ -276,7 +276,15 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
     Eigen::VectorXd rhs(dofs), trial(dofs), traction_row(dofs);
     std::vector<double> trial_gradient(static_cast<std::size_t>(D * D * local));
     std::vector<long long> rows(static_cast<std::size_t>(local));
-    std::vector<std::vector<double>> own_bands(D * D, std::vector<double>(band_size, 0.0));
+    // Each thread adds into its own bands, summed in thread order below;
+    // the first thread adds into `bands` itself (one thread: no copy).
+#ifdef _OPENMP
+    const bool first_thread = omp_get_thread_num() == 0;
+#else
+    const bool first_thread = true;
+#endif
+    std::vector<std::vector<double>> own_bands_storage(first_thread ? 0 : D * D, std::vector<double>(band_size, 0.0));
+    std::vector<std::vector<double>>& own_bands = first_thread ? bands : own_bands_storage;
     std::vector<std::vector<double>> own_loads(D, std::vector<double>(relevant, 0.0));
 #pragma omp for schedule(static, 8) nowait
     for (std::size_t k = 0; k < candidates.size(); ++k) {
@@ -399,7 +407,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
       }
     }
     in_thread_order([&] {
-      for (std::size_t b = 0; b < bands.size(); ++b)
+      for (std::size_t b = 0; b < bands.size() && !first_thread; ++b)
         for (std::size_t i = 0; i < band_size; ++i) bands[b][i] += own_bands[b][i];
       for (int c = 0; c < D; ++c)
         for (std::size_t i = 0; i < relevant; ++i) loads[c][i] += own_loads[c][i];

@@ -101,29 +101,7 @@ TEST(CliSolveElasticity, MeshSolidUnderUniaxialTension) {
   // (selector formulas: a mesh names no parts), traction s on z = 1: the
   // uniaxial stress u = (-nu s x, -nu s y, s z) / E, linear, so reproduced
   // up to the solver's tolerance; cut cells come from the triangles.
-  write_file("tension_cube.off", R"(OFF
-8 12 0
-0 0 0
-1 0 0
-1 1 0
-0 1 0
-0 0 1
-1 0 1
-1 1 1
-0 1 1
-3 0 2 1
-3 0 3 2
-3 4 5 6
-3 4 6 7
-3 0 1 5
-3 0 5 4
-3 2 3 7
-3 2 7 6
-3 1 2 6
-3 1 6 5
-3 3 0 4
-3 3 4 7
-)");
+  write_cube_off("tension_cube.off", 0, 1);
   const std::string problem = write_file("tension_cube.json", R"json({
   "physics": "elasticity",
   "domain": "tension_cube.off",

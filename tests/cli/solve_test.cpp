@@ -257,29 +257,7 @@ TEST(CliSolve, BallWithRobinIn3D) {
 TEST(CliSolve, MeshDomainByItsTriangles) {
   // A cube given as 12 triangles (OFF), Dirichlet data that differ from u
   // inside: cut cells come from the triangles, omega is the signed distance.
-  write_file("solve_cube.off", R"(OFF
-8 12 0
--1 -1 -1
-1 -1 -1
-1 1 -1
--1 1 -1
--1 -1 1
-1 -1 1
-1 1 1
--1 1 1
-3 0 2 1
-3 0 3 2
-3 4 5 6
-3 4 6 7
-3 0 1 5
-3 0 5 4
-3 2 3 7
-3 2 7 6
-3 1 2 6
-3 1 6 5
-3 3 0 4
-3 3 4 7
-)");
+  write_cube_off("solve_cube.off", -1, 1);
   const std::string problem = write_file("solve_cube.json", R"json({
   "domain": "solve_cube.off",
   "source": "pi^2/4*exp(x)*sin(pi*y/2)*cos(z)",
