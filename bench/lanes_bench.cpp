@@ -3,7 +3,10 @@
 // (rfunction_lanes.hpp), beside the baseline of the same numbers computed a
 // tuple at a time (r0_combine / rp_combine over an array of tuples); and a
 // Chebyshev patch of degree 10 over a leaf batch of 4 rows of 16 points
-// (ChebyshevPatch::evaluate_rows) beside the same patch point by point.
+// (ChebyshevPatch::evaluate_rows) beside the same patch point by point;
+// and the arithmetic of primitives and trimmed faces on first-order tuples
+// (products, squares, roots, quotients, fourth powers: tuple_op_lanes.hpp)
+// beside tuple.hpp's operators a tuple at a time.
 //
 // Prints Google Benchmark's table, then each kernel's time per lane as a
 // ratio to its baseline measured in the same run (by component against a
@@ -12,10 +15,12 @@
 #include <sage/sampling/chebyshev_patch.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/rfunction_lanes.hpp>
+#include <sage/scalars/tuple_op_lanes.hpp>
 
 #include <benchmark/benchmark.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -42,6 +47,14 @@ std::vector<double> random_registers() {
 
 sage::TupleLanes<T> lanes(std::vector<double>& r, int k) { return {r.data() + k * T::size * kLanes, kLanes}; }
 
+// The same registers as an array of tuples (the baselines' layout).
+std::vector<T> as_tuples(std::vector<double> flat) {
+  std::vector<T> r(kRegisters * kLanes);
+  for (int k = 0; k < kRegisters; ++k)
+    for (std::size_t l = 0; l < kLanes; ++l) r[k * kLanes + l] = lanes(flat, k).load(l);
+  return r;
+}
+
 // Which registers iteration i combines (never the output, so values stay bounded).
 int first(std::size_t i) { return static_cast<int>(i % (kRegisters - 1)); }
 int second(std::size_t i) { return static_cast<int>((i + 1) % (kRegisters - 1)); }
@@ -64,10 +77,7 @@ void BM_by_component(benchmark::State& state) {
 
 template <int P>
 void BM_tuple_at_a_time(benchmark::State& state) {
-  std::vector<double> flat = random_registers();
-  std::vector<T> r(kRegisters * kLanes);
-  for (int k = 0; k < kRegisters; ++k)
-    for (std::size_t l = 0; l < kLanes; ++l) r[k * kLanes + l] = lanes(flat, k).load(l);
+  std::vector<T> r = as_tuples(random_registers());
   std::size_t i = 0;
   for (auto _ : state) {
     const T* x = &r[first(i) * kLanes];
@@ -85,6 +95,66 @@ BENCHMARK(BM_tuple_at_a_time<0>);
 BENCHMARK(BM_by_component<0>);
 BENCHMARK(BM_tuple_at_a_time<4>);
 BENCHMARK(BM_by_component<4>);
+
+// Tuple arithmetic: one kernel per op, over positive values (roots and
+// quotients then take their vector branch, as inside a trimmed face).
+enum Arith { kMul, kSquare, kSqrt, kDiv, kPow4 };
+
+std::vector<double> positive_registers() {
+  std::vector<double> r = random_registers();
+  for (int k = 0; k < kRegisters; ++k)
+    for (std::size_t l = 0; l < kLanes; ++l) r[k * T::size * kLanes + l] = 0.1 + std::abs(r[k * T::size * kLanes + l]);
+  return r;
+}
+
+template <Arith A>
+void BM_arith_by_component(benchmark::State& state) {
+  std::vector<double> r = positive_registers();
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const auto x = lanes(r, first(i)), y = lanes(r, second(i)), out = lanes(r, kRegisters - 1);
+    if constexpr (A == kMul) sage::mul_lanes(x, y, out, kLanes);
+    if constexpr (A == kSquare) sage::square_lanes(x, out, kLanes);
+    if constexpr (A == kSqrt) sage::sqrt_lanes(x, out, kLanes);
+    if constexpr (A == kDiv) sage::div_lanes(x, y, out, kLanes, false);
+    if constexpr (A == kPow4) sage::pow_int_lanes(x, 4, out, kLanes);
+    benchmark::DoNotOptimize(r.data());
+    ++i;
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+template <Arith A>
+void BM_arith_tuple_at_a_time(benchmark::State& state) {
+  std::vector<T> r = as_tuples(positive_registers());
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const T* x = &r[first(i) * kLanes];
+    const T* y = &r[second(i) * kLanes];
+    T* out = &r[(kRegisters - 1) * kLanes];
+    for (std::size_t l = 0; l < kLanes; ++l) {
+      if constexpr (A == kMul) out[l] = x[l] * y[l];
+      if constexpr (A == kSquare) out[l] = sage::square(x[l]);
+      if constexpr (A == kSqrt) out[l] = sage::sqrt(x[l]);
+      if constexpr (A == kDiv) out[l] = x[l] / y[l];
+      if constexpr (A == kPow4) out[l] = sage::pow_int(x[l], 4);
+    }
+    benchmark::DoNotOptimize(r.data());
+    ++i;
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+BENCHMARK(BM_arith_tuple_at_a_time<kMul>);
+BENCHMARK(BM_arith_by_component<kMul>);
+BENCHMARK(BM_arith_tuple_at_a_time<kSquare>);
+BENCHMARK(BM_arith_by_component<kSquare>);
+BENCHMARK(BM_arith_tuple_at_a_time<kSqrt>);
+BENCHMARK(BM_arith_by_component<kSqrt>);
+BENCHMARK(BM_arith_tuple_at_a_time<kDiv>);
+BENCHMARK(BM_arith_by_component<kDiv>);
+BENCHMARK(BM_arith_tuple_at_a_time<kPow4>);
+BENCHMARK(BM_arith_by_component<kPow4>);
 
 // A patch of degree 10 (the most far-field approximation's sampling degree
 // 12 allows) of a field with a pole near the box, and a leaf batch: 4 rows
@@ -171,6 +241,11 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ratio("r0", "BM_by_component<0>", "BM_tuple_at_a_time<0>");
     ratio("rp:4", "BM_by_component<4>", "BM_tuple_at_a_time<4>");
     ratio("patch", "BM_patch_rows", "BM_patch_point_by_point");
+    const char* arith[] = {"kMul", "kSquare", "kSqrt", "kDiv", "kPow4"};
+    const char* names[] = {"mul", "square", "sqrt", "div", "pow 4"};
+    for (int a = 0; a < 5; ++a)
+      ratio(names[a], std::string("BM_arith_by_component<") + arith[a] + ">",
+            std::string("BM_arith_tuple_at_a_time<") + arith[a] + ">");
   }
 
  private:

@@ -8,7 +8,10 @@
 //    also over grid rows (evaluate_rows, where patches run a row at a time);
 //  - for R0 and Rp nodes in doubles and first-order tuples
 //    (rfunction_lanes.hpp), also at the corner, at NaN, at a zero argument
-//    and over batches wider than their chunks.
+//    and over batches wider than their chunks;
+//  - for products, squares, roots, quotients and integer powers of
+//    first-order tuples (tuple_op_lanes.hpp), at signed zeros, NaN,
+//    infinities and the operators' singular branches.
 
 #include "test_support.hpp"
 
@@ -133,6 +136,49 @@ TEST(BatchEvaluator, ComponentwiseOpsAtSignedZerosNaNAndInfinity) {
   expect_batch_equals_evaluator<Tuple<2, 1>>(tape, points, 64);
   expect_batch_equals_evaluator<Tuple<2, 2>>(tape, points, 16);
   expect_batch_equals_evaluator<double>(tape, points, 64);
+}
+
+TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
+  // Products, squares, roots, quotients and integer powers of first-order
+  // tuples run a component at a time (tuple_op_lanes.hpp), constant
+  // arguments read as one number; lanes where
+  // tuple.hpp takes another branch (sqrt of 0 or less, a quotient by 0, a
+  // power of 0) are handed back to it. Same bits everywhere, also where an
+  // output overwrites its argument and over batches wider than a chunk.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr product = x * y;
+  const Tape tape(
+      std::vector<Expr>{product * (y - 1.0), square(x - y), sqrt(x), sqrt(square(x) + square(y)), x / y, div_safe(y, x),
+                        pow_int(x, 4), pow_int(y, 3), pow_int(x - z, 0), pow_int(y, -2), sqrt(product) / (x + z),
+                        // constant arguments, read as one number:
+                        (0.25 - square(x) - square(y)) / 0.5, product / 0.0, div_safe(y, Expr(0.0)), product * 3.0,
+                        3.0 * sqrt(y), 2.0 - product, product - 2.0, 1.5 + product},
+      3);
+  std::set<Op> ops, with_constant;
+  std::set<std::uint32_t> constants;
+  for (const auto& [r, c] : tape.constants()) constants.insert(r);
+  for (const Instruction& ins : tape.code()) {
+    ops.insert(ins.op);
+    if (constants.count(ins.a) || (arity(ins.op) == 2 && constants.count(ins.b))) with_constant.insert(ins.op);
+  }
+  for (const Op op : {Op::Mul, Op::Square, Op::Sqrt, Op::Div, Op::DivSafe, Op::PowInt})
+    ASSERT_TRUE(ops.count(op)) << op_name(op);
+  for (const Op op : {Op::Mul, Op::Div, Op::DivSafe, Op::Sub})  // a + c is an Offset
+    EXPECT_TRUE(with_constant.count(op)) << op_name(op) << " with a constant argument";
+  Points points = random_points(150, 35, -1, 1);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  const std::vector<std::array<double, 3>> special{
+      {0.0, 0.0, 0.0},       {-0.0, 0.0, 0.0},     {0.0, -0.0, 1.0},    {-0.0, -0.0, -0.0}, {nan, 1.0, 0.0},
+      {1.0, nan, 0.5},       {-nan, -nan, 0.0},    {inf, 2.0, 0.0},     {2.0, -inf, inf},   {-inf, -inf, 1.0},
+      {1e-170, 1e-170, 0.0}, {1e170, -1e170, 0.0}, {-0.25, 0.0, -0.25}, {0.5, 0.5, 0.5}};
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    points[5 * k] = special[k];
+    points[149 - k] = special[k];  // in the second chunk too
+  }
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 150);
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 64);
+  const Tape planar(std::vector<Expr>{x * y, square(x), sqrt(x - y), x / y, div_safe(x, y), pow_int(y, 5)}, 2);
+  expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 150);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

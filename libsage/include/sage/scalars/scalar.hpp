@@ -39,6 +39,7 @@ inline double pow_int(double x, int n) {
 /// two or three square roots, several times faster than std::pow and, like
 /// it, within an ulp. Tuples and intervals take their roots from here.
 inline double pow_real(double x, double r) {
+  if (r == -1.0) return 1.0 / x;  // the reciprocal, correctly rounded (quotients of tuples start from it)
   const int roots = r == 0.5 ? 1 : r == 0.25 ? 2 : r == 0.125 ? 3 : 0;
   if (roots == 0 || !(x > 0)) return std::pow(x, r);  // pow's zeros, NaNs and infinities
   for (int i = 0; i < roots; ++i) x = std::sqrt(x);

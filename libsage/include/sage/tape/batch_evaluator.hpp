@@ -21,6 +21,7 @@
 
 #include <sage/scalars/rfunction_lanes.hpp>
 #include <sage/scalars/tuple_lanes.hpp>
+#include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/evaluator.hpp>
 
 #include <array>
@@ -44,8 +45,13 @@ class BatchEvaluator {
     width_ = width;
     const std::size_t doubles = tape.register_count() * kComponents * width;
     if (data_.size() < doubles) data_.resize(doubles);
-    for (const auto& [r, c] : tape.constants())
+    is_constant_.assign(tape.register_count(), 0);
+    constant_value_.resize(tape.register_count());
+    for (const auto& [r, c] : tape.constants()) {
       for (std::size_t l = 0; l < width; ++l) store(r, l, T(c));
+      is_constant_[r] = 1;
+      constant_value_[r] = c;
+    }
   }
 
   std::size_t width() const { return width_; }
@@ -171,6 +177,9 @@ class BatchEvaluator {
           }
         }
       }
+      if constexpr (detail::IsFirstOrderTuple<T>::value) {
+        if (run_tuple_arithmetic(ins, count)) continue;
+      }
       if constexpr (kLaneKernels) {
         if (i + 1 < code.size() && halfplane(ins, code[i + 1])) {
           run_halfplane(ins, code[i + 1].p0, count);
@@ -189,6 +198,34 @@ class BatchEvaluator {
     }
   }
 
+  // Products, squares, roots, quotients and integer powers of first-order
+  // tuples, a component at a time (tuple_op_lanes.hpp: the same numbers as
+  // apply_op), constant factors and divisors read as one number. False for
+  // other ops.
+  bool run_tuple_arithmetic(const Instruction& ins, std::size_t count) {
+    switch (ins.op) {
+      case Op::Mul:
+        if (is_constant_[ins.b])
+          mul_constant_lanes(lanes_of(ins.a), constant_value_[ins.b], lanes_of(ins.out), count);
+        else if (is_constant_[ins.a])  // c a: the same two terms per partial, so the same sums
+          mul_constant_lanes(lanes_of(ins.b), constant_value_[ins.a], lanes_of(ins.out), count);
+        else
+          mul_lanes(lanes_of(ins.a), lanes_of(ins.b), lanes_of(ins.out), count);
+        return true;
+      case Op::Square: square_lanes(lanes_of(ins.a), lanes_of(ins.out), count); return true;
+      case Op::Sqrt: sqrt_lanes(lanes_of(ins.a), lanes_of(ins.out), count); return true;
+      case Op::Div:
+      case Op::DivSafe:
+        if (is_constant_[ins.b])
+          div_constant_lanes(lanes_of(ins.a), constant_value_[ins.b], lanes_of(ins.out), count, ins.op == Op::DivSafe);
+        else
+          div_lanes(lanes_of(ins.a), lanes_of(ins.b), lanes_of(ins.out), count, ins.op == Op::DivSafe);
+        return true;
+      case Op::PowInt: pow_int_lanes(lanes_of(ins.a), static_cast<int>(ins.p0), lanes_of(ins.out), count); return true;
+      default: return false;
+    }
+  }
+
   // Tuple ops that treat every coefficient alike (sums, negation, the
   // halfplanes' Axpby and Offset), a component at a time: the arithmetic of
   // tuple.hpp's operators, so the same numbers as apply_op. Each lane reads
@@ -196,35 +233,52 @@ class BatchEvaluator {
   bool run_by_component(const Instruction& ins, std::size_t count) {
     const Op op = ins.op;
     if (op != Op::Add && op != Op::Sub && op != Op::Neg && op != Op::Axpby && op != Op::Offset) return false;
-    for (int k = 0; k < kComponents; ++k) {
-      const double* a = component(ins.a, k);
-      const double* b = component(ins.b, k);
-      double* out = component(ins.out, k);
-      const double p0 = ins.p0, p1 = ins.p1;
-      const double offset = k == 0 ? p0 : 0.0;  // a + T(p0)
-      switch (op) {
-        case Op::Add:
-#pragma GCC ivdep
-          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] + b[l];
-          break;
-        case Op::Sub:
-#pragma GCC ivdep
-          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] - b[l];
-          break;
-        case Op::Neg:  // a *= -1.0
-#pragma GCC ivdep
-          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] * -1.0;
-          break;
-        case Op::Axpby:
-#pragma GCC ivdep
-          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] * p0 + b[l] * p1;
-          break;
-        default:  // Offset
-#pragma GCC ivdep
-          for (std::size_t l = 0; l < count; ++l) out[l] = a[l] + offset;
-      }
+    if (op == Op::Sub && (is_constant_[ins.a] || is_constant_[ins.b])) {
+      run_difference_with_constant(ins, count);
+      return true;
+    }
+    switch (op) {
+      case Op::Add: by_component(ArrayOp::Add, ins, count); break;
+      case Op::Sub: by_component(ArrayOp::Sub, ins, count); break;
+      case Op::Neg: by_component(ArrayOp::Scale, ins, count, -1.0); break;  // a *= -1.0
+      case Op::Axpby: by_component(ArrayOp::Axpby, ins, count, ins.p0, ins.p1); break;
+      default: by_value_and_partials(ArrayOp::Offset, ins.a, ins.out, count, ins.p0, 0.0);  // a + T(p0)
     }
     return true;
+  }
+
+  // An ArrayOp on every component alike: in one run over the register's
+  // components when the batch is full (they lie back to back).
+  void by_component(ArrayOp op, const Instruction& ins, std::size_t count, double p0 = 0, double p1 = 0) {
+    if (count == width_) {
+      array_op(op, component(ins.a), component(ins.b), p0, p1, 0.0, component(ins.out), kComponents * count);
+      return;
+    }
+    for (int k = 0; k < kComponents; ++k)
+      array_op(op, component(ins.a, k), component(ins.b, k), p0, p1, 0.0, component(ins.out, k), count);
+  }
+
+  // An ArrayOp with parameter `value` on the value and `partial` on the
+  // partials (a constant added or subtracted: T(c) has zero partials).
+  void by_value_and_partials(ArrayOp op, std::uint32_t a, std::uint32_t out, std::size_t count, double value,
+                             double partial) {
+    array_op(op, component(a), nullptr, value, 0.0, 0.0, component(out), count);
+    if (count == width_) {
+      array_op(op, component(a, 1), nullptr, partial, 0.0, 0.0, component(out, 1), (kComponents - 1) * count);
+      return;
+    }
+    for (int k = 1; k < kComponents; ++k)
+      array_op(op, component(a, k), nullptr, partial, 0.0, 0.0, component(out, k), count);
+  }
+
+  // a - c or c - a with c a constant register, read as one number (T(c)
+  // is c and zero partials; a - c is a + (-c) exactly). The tape writes
+  // a + c as an Offset.
+  void run_difference_with_constant(const Instruction& ins, std::size_t count) {
+    if (is_constant_[ins.a])
+      by_value_and_partials(ArrayOp::ConstantMinus, ins.b, ins.out, count, constant_value_[ins.a], 0.0);
+    else
+      by_value_and_partials(ArrayOp::Offset, ins.a, ins.out, count, -constant_value_[ins.b], -0.0);
   }
 
   // Whether `next` adds a constant to the Axpby `ins` in its own register
@@ -237,14 +291,10 @@ class BatchEvaluator {
   // Axpby, then Offset, a lane at a time: the same numbers as the two
   // instructions (the Offset adds p0 to the value and 0.0 to the partials).
   void run_halfplane(const Instruction& ins, double offset, std::size_t count) {
-    for (int k = 0; k < kComponents; ++k) {
-      const double* a = component(ins.a, k);
-      const double* b = component(ins.b, k);
-      double* out = component(ins.out, k);
-      const double p0 = ins.p0, p1 = ins.p1, c = k == 0 ? offset : 0.0;
-#pragma GCC ivdep
-      for (std::size_t l = 0; l < count; ++l) out[l] = (a[l] * p0 + b[l] * p1) + c;
-    }
+    array_op(ArrayOp::Halfplane, component(ins.a), component(ins.b), ins.p0, ins.p1, offset, component(ins.out), count);
+    for (int k = 1; k < kComponents; ++k)
+      array_op(ArrayOp::Halfplane, component(ins.a, k), component(ins.b, k), ins.p0, ins.p1, 0.0, component(ins.out, k),
+               count);
   }
 
   // The kernels' view of a register: its doubles, or its tuple lanes.
@@ -266,6 +316,10 @@ class BatchEvaluator {
 
   const Tape* tape_;
   std::size_t width_;
+  // Which registers hold constants, and their values: kernels read those
+  // as one number rather than as lanes.
+  std::vector<char> is_constant_;
+  std::vector<double> constant_value_;
   std::size_t count_ = 0;
   std::vector<double> data_;
 };
