@@ -264,35 +264,31 @@ SAGE_ALSO_AVX2 void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrderLa
 
 SAGE_ALSO_AVX2 void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2, double* out,
                              std::size_t n) {
+  // Each element reads its arguments before it writes (out may be a or b).
+  auto unary = [&](auto f) {
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) out[i] = f(a[i]);
+  };
+  auto binary = [&](auto f) {
+#pragma GCC ivdep
+    for (std::size_t i = 0; i < n; ++i) out[i] = f(a[i], b[i]);
+  };
   switch (op) {
-    case ArrayOp::Add:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] + b[i];
-      return;
-    case ArrayOp::Sub:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] - b[i];
-      return;
-    case ArrayOp::Scale:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] * p0;
-      return;
-    case ArrayOp::Axpby:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] * p0 + b[i] * p1;
-      return;
-    case ArrayOp::Offset:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = a[i] + p0;
-      return;
-    case ArrayOp::ConstantMinus:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = p0 - a[i];
-      return;
-    case ArrayOp::Halfplane:
-#pragma GCC ivdep
-      for (std::size_t i = 0; i < n; ++i) out[i] = (a[i] * p0 + b[i] * p1) + p2;
-      return;
+    case ArrayOp::Add: return binary([](double x, double y) { return x + y; });
+    case ArrayOp::Sub: return binary([](double x, double y) { return x - y; });
+    case ArrayOp::Scale: return unary([=](double x) { return x * p0; });
+    case ArrayOp::Axpby: return binary([=](double x, double y) { return x * p0 + y * p1; });
+    case ArrayOp::Offset: return unary([=](double x) { return x + p0; });
+    case ArrayOp::ConstantMinus: return unary([=](double x) { return p0 - x; });
+    case ArrayOp::Halfplane: return binary([=](double x, double y) { return (x * p0 + y * p1) + p2; });
+    case ArrayOp::Mul: return binary([](double x, double y) { return x * y; });
+    case ArrayOp::Square: return unary([](double x) { return sage::square(x); });
+    case ArrayOp::Sqrt: return unary([](double x) { return std::sqrt(x); });
+    case ArrayOp::Div: return binary([](double x, double y) { return x / y; });
+    case ArrayOp::DivSafe: return binary([](double x, double y) { return sage::div_safe(x, y); });
+    case ArrayOp::DivideBy: return unary([=](double x) { return x / p0; });
+    case ArrayOp::Min: return binary([](double x, double y) { return sage::min(x, y); });
+    case ArrayOp::Max: return binary([](double x, double y) { return sage::max(x, y); });
   }
 }
 

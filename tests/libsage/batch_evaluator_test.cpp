@@ -141,19 +141,20 @@ TEST(BatchEvaluator, ComponentwiseOpsAtSignedZerosNaNAndInfinity) {
 TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
   // Products, squares, roots, quotients and integer powers of first-order
   // tuples run a component at a time (tuple_op_lanes.hpp), constant
-  // arguments read as one number; lanes where
-  // tuple.hpp takes another branch (sqrt of 0 or less, a quotient by 0, a
-  // power of 0) are handed back to it. Same bits everywhere, also where an
-  // output overwrites its argument and over batches wider than a chunk.
+  // arguments read as one number; lanes where tuple.hpp takes another
+  // branch (sqrt of 0 or less, a quotient by 0, a power of 0) are handed
+  // back to it. Values run over whole arrays. Same bits everywhere, also
+  // where an output overwrites its argument and over batches wider than a
+  // chunk.
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
   const Expr product = x * y;
-  const Tape tape(
-      std::vector<Expr>{product * (y - 1.0), square(x - y), sqrt(x), sqrt(square(x) + square(y)), x / y, div_safe(y, x),
-                        pow_int(x, 4), pow_int(y, 3), pow_int(x - z, 0), pow_int(y, -2), sqrt(product) / (x + z),
-                        // constant arguments, read as one number:
-                        (0.25 - square(x) - square(y)) / 0.5, product / 0.0, div_safe(y, Expr(0.0)), product * 3.0,
-                        3.0 * sqrt(y), 2.0 - product, product - 2.0, 1.5 + product},
-      3);
+  std::vector<Expr> roots{product * (y - 1.0), square(x - y), sqrt(x), sqrt(square(x) + square(y)), x / y,
+                          div_safe(y, x), pow_int(x, 4), pow_int(y, 3), pow_int(x - z, 0), pow_int(y, -2),
+                          sqrt(product) / (x + z),
+                          // constant arguments, read as one number:
+                          (0.25 - square(x) - square(y)) / 0.5, product / 0.0, div_safe(y, Expr(0.0)), product * 3.0,
+                          3.0 * sqrt(y), 2.0 - product, product - 2.0, 1.5 + product};
+  const Tape tape(roots, 3);
   std::set<Op> ops, with_constant;
   std::set<std::uint32_t> constants;
   for (const auto& [r, c] : tape.constants()) constants.insert(r);
@@ -177,6 +178,11 @@ TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
   }
   expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 150);
   expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 64);
+  // Values run these ops over whole arrays too, min and max with them.
+  for (const Expr& e : {min(x, y), max(product, z), min(x, Expr(0.5))}) roots.push_back(e);
+  const Tape values(roots, 3);
+  expect_batch_equals_evaluator<double>(values, points, 150);
+  expect_batch_equals_evaluator<double>(values, points, 64);
   const Tape planar(std::vector<Expr>{x * y, square(x), sqrt(x - y), x / y, div_safe(x, y), pow_int(y, 5)}, 2);
   expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 150);
 }

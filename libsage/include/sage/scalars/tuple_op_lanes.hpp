@@ -58,7 +58,8 @@ void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrderLanes<3> out, std
 
 /// Elementwise arithmetic over arrays of n doubles, for the tuple ops that
 /// treat every coefficient alike (one component's lanes, or a register's
-/// components back to back): out[i] = op(a[i], b[i]), compiled for AVX2
+/// components back to back, or doubles): out[i] = op(a[i], b[i]), the
+/// arithmetic of scalar.hpp, compiled for AVX2
 /// too (BatchEvaluator itself is not: these sums then ran two doubles per
 /// instruction). out may be a or b.
 enum class ArrayOp {
@@ -69,6 +70,15 @@ enum class ArrayOp {
   Offset,         // a + p0
   ConstantMinus,  // p0 - a
   Halfplane,      // (a * p0 + b * p1) + p2
+  // Doubles only (values without partials):
+  Mul,       // a * b
+  Square,    // a * a
+  Sqrt,      // sqrt(a)
+  Div,       // a / b
+  DivSafe,   // a / b, 0 where b = 0
+  DivideBy,  // a / p0
+  Min,       // sage::min(a, b)
+  Max,       // sage::max(a, b)
 };
 void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2, double* out,
               std::size_t n);

@@ -180,6 +180,9 @@ class BatchEvaluator {
       if constexpr (detail::IsFirstOrderTuple<T>::value) {
         if (run_tuple_arithmetic(ins, count)) continue;
       }
+      if constexpr (std::is_same_v<T, double>) {
+        if (run_double_arithmetic(ins, count)) continue;
+      }
       if constexpr (kLaneKernels) {
         if (i + 1 < code.size() && halfplane(ins, code[i + 1])) {
           run_halfplane(ins, code[i + 1].p0, count);
@@ -222,6 +225,47 @@ class BatchEvaluator {
           div_lanes(lanes_of(ins.a), lanes_of(ins.b), lanes_of(ins.out), count, ins.op == Op::DivSafe);
         return true;
       case Op::PowInt: pow_int_lanes(lanes_of(ins.a), static_cast<int>(ins.p0), lanes_of(ins.out), count); return true;
+      default: return false;
+    }
+  }
+
+  // The arithmetic of values (scalar.hpp's) over whole arrays, compiled for
+  // AVX2 too; constant factors, divisors and terms read as one number.
+  // False for other ops.
+  bool run_double_arithmetic(const Instruction& ins, std::size_t count) {
+    const double* a = component(ins.a);
+    const double* b = component(ins.b);
+    double* out = component(ins.out);
+    auto run = [&](ArrayOp op, double p0 = 0, double p1 = 0) {
+      array_op(op, a, b, p0, p1, 0.0, out, count);
+      return true;
+    };
+    const bool a_constant = is_constant_[ins.a], b_constant = arity(ins.op) == 2 && is_constant_[ins.b];
+    switch (ins.op) {
+      case Op::Add: return run(ArrayOp::Add);
+      case Op::Sub:
+        if (b_constant) return run(ArrayOp::Offset, -constant_value_[ins.b]);  // a - c = a + (-c)
+        if (a_constant) {
+          a = b;
+          return run(ArrayOp::ConstantMinus, constant_value_[ins.a]);
+        }
+        return run(ArrayOp::Sub);
+      case Op::Neg: return run(ArrayOp::Scale, -1.0);  // a * -1.0
+      case Op::Axpby: return run(ArrayOp::Axpby, ins.p0, ins.p1);
+      case Op::Offset: return run(ArrayOp::Offset, ins.p0);
+      case Op::Mul:
+        if (b_constant) return run(ArrayOp::Scale, constant_value_[ins.b]);
+        if (a_constant) {
+          a = b;
+          return run(ArrayOp::Scale, constant_value_[ins.a]);
+        }
+        return run(ArrayOp::Mul);
+      case Op::Square: return run(ArrayOp::Square);
+      case Op::Sqrt: return run(ArrayOp::Sqrt);
+      case Op::Div: return b_constant ? run(ArrayOp::DivideBy, constant_value_[ins.b]) : run(ArrayOp::Div);
+      case Op::DivSafe: return run(ArrayOp::DivSafe);
+      case Op::Min: return run(ArrayOp::Min);
+      case Op::Max: return run(ArrayOp::Max);
       default: return false;
     }
   }
