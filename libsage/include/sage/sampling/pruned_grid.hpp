@@ -52,7 +52,7 @@ inline std::array<Interval, 3> block_box(const Grid& grid, const GridBlock& b) {
 // (1,000 balls' min/max union at 128^3, values, one thread: 0.28 s at 32,
 // 0.19 s at 64; 128 slower with gradients).
 constexpr std::size_t kLeafPoints = 64;
-constexpr std::size_t kSmallTape = 16;   // too short to be worth specializing
+constexpr std::size_t kSmallTape = 16;  // too short to be worth specializing
 // Over a block of m points a specialization costs about two passes of the
 // tape and saves m passes of what it drops: with long tapes (large meshes,
 // where shrinking is slow) it pays down to blocks of a few points.
