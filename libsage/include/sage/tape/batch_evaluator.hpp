@@ -180,15 +180,15 @@ class BatchEvaluator {
       if constexpr (detail::IsFirstOrderTuple<T>::value) {
         if (run_tuple_arithmetic(ins, count)) continue;
       }
-      if constexpr (std::is_same_v<T, double>) {
-        if (run_double_arithmetic(ins, count)) continue;
-      }
       if constexpr (kLaneKernels) {
         if (i + 1 < code.size() && halfplane(ins, code[i + 1])) {
           run_halfplane(ins, code[i + 1].p0, count);
           ++i;
           continue;
         }
+      }
+      if constexpr (std::is_same_v<T, double>) {  // after the halfplane: Axpby then Offset in one pass
+        if (run_double_arithmetic(ins, count)) continue;
       }
       if constexpr (kComponents > 1) {
         if (run_by_component(ins, count)) continue;
