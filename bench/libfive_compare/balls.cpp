@@ -39,6 +39,7 @@
 #include <libfive/tree/tree.hpp>
 
 #include <nlohmann/json.hpp>
+#include <sage/scalars/rfunction.hpp>  // reduce_balanced: sage's tree order, header only
 
 #include <algorithm>
 #include <array>
@@ -85,19 +86,6 @@ Problem load(const std::string& path) {
   return p;
 }
 
-/// sage's reduce_balanced: ((a0 . a1) . (a2 . a3)) . ..., odd one carried.
-template <class T, class F>
-T reduce_balanced(std::vector<T> args, F combine) {
-  while (args.size() > 1) {
-    std::vector<T> next;
-    next.reserve((args.size() + 1) / 2);
-    for (std::size_t i = 0; i + 1 < args.size(); i += 2) next.push_back(combine(args[i], args[i + 1]));
-    if (args.size() % 2) next.push_back(args.back());
-    args = std::move(next);
-  }
-  return args.front();
-}
-
 enum class Union { MinMax, R0 };
 const char* name(Union u) { return u == Union::MinMax ? "minmax" : "r0"; }
 
@@ -109,8 +97,9 @@ Tree ball_tree(const Ball& b) {
 Tree union_tree(const Problem& p, Union u) {
   std::vector<Tree> leaves;
   for (const Ball& b : p.balls) leaves.push_back(ball_tree(b));
-  if (u == Union::MinMax) return reduce_balanced(leaves, [](const Tree& a, const Tree& b) { return max(a, b); });
-  return reduce_balanced(leaves, [](const Tree& a, const Tree& b) { return a + b + sqrt(square(a) + square(b)); });
+  if (u == Union::MinMax) return sage::reduce_balanced(leaves, [](const Tree& a, const Tree& b) { return max(a, b); });
+  return sage::reduce_balanced(leaves,
+                               [](const Tree& a, const Tree& b) { return a + b + sqrt(square(a) + square(b)); });
 }
 
 /// Tree::with_flags is protected; a pointer to it through a derived class is
@@ -138,7 +127,7 @@ std::vector<double> reference(const Problem& p, Union u, int n, const std::vecto
             v[b] = (B.r * B.r - (dx * dx + dy * dy + dz * dz)) / (2.0 * B.r);
           }
           std::size_t m = v.size();
-          while (m > 1) {  // in-place pairwise reduction, same order as reduce_balanced
+          while (m > 1) {  // in-place pairwise reduction, same order as sage::reduce_balanced
             std::size_t w = 0;
             for (std::size_t a = 0; a + 1 < m; a += 2)
               v[w++] = u == Union::MinMax ? std::max(v[a], v[a + 1])

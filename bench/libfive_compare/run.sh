@@ -55,7 +55,8 @@ echo
 
 # libfive's side: same -O3 -march=native as libfive's own build (Eigen's
 # alignment must match the library's).
-g++ -O3 -march=native -DEIGEN_NO_DEBUG -DNDEBUG -std=c++17 -I"$src/libfive/include" -isystem /usr/include/eigen3 \
+g++ -O3 -march=native -DEIGEN_NO_DEBUG -DNDEBUG -std=c++20 -I"$src/libfive/include" -I"$S/libsage/include" \
+    -isystem /usr/include/eigen3 \
     "$here/balls.cpp" -o "$work/balls" "$lfb/libfive/src/libfive.so" -Wl,-rpath,"$lfb/libfive/src" -lpthread
 echo "== balls --grid $n $*"
 "$work/balls" --grid "$n" "$@" /tmp/far_field_bench_balls_minmax.json
