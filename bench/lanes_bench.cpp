@@ -6,7 +6,8 @@
 // (ChebyshevPatch::evaluate_rows) beside the same patch point by point;
 // and the arithmetic of primitives and trimmed faces on first-order tuples
 // (products, squares, roots, quotients, fourth powers: tuple_op_lanes.hpp)
-// beside tuple.hpp's operators a tuple at a time.
+// beside tuple.hpp's operators a tuple at a time; and a disk's fused sum
+// of squares (square_sum.hpp) beside its instructions' kernels one by one.
 //
 // Prints Google Benchmark's table, then each kernel's time per lane as a
 // ratio to its baseline measured in the same run (by component against a
@@ -16,6 +17,7 @@
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/rfunction_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
+#include <sage/tape/square_sum.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -224,6 +226,80 @@ void BM_patch_rows(benchmark::State& state) {
 BENCHMARK(BM_patch_point_by_point);
 BENCHMARK(BM_patch_rows);
 
+// A disk, (r^2 - (x - a)^2 - (y - b)^2) / (2 r), over the point's
+// coordinates: the fused kernel (square_sum.hpp) beside its seven tape
+// instructions run one by one with the batch evaluator's kernels (what it
+// did before the fusion; the same bits, checked once).
+struct DiskBatch {
+  static constexpr double kA = 0.25, kB = -0.5, kR = 0.75;
+  std::vector<double> coordinates[2], out = std::vector<double>(T::size * kLanes),
+                                      scratch = std::vector<double>(T::size * kLanes);
+  DiskBatch() {
+    for (int a = 0; a < 2; ++a) {
+      coordinates[a].resize(T::size * kLanes);
+      const sage::TupleLanes<T> lanes{coordinates[a].data(), kLanes};
+      for (std::size_t p = 0; p < kLanes; ++p)
+        lanes.store(p, T::variable(a, -1.0 + 2.0 * static_cast<double>((p * (a + 3)) % kLanes) / kLanes));
+    }
+  }
+  sage::ConstTupleLanes<T> coordinate(int a) const { return {coordinates[a].data(), kLanes}; }
+  static sage::SquareSum disk() {
+    sage::SquareSum sum;
+    sum.terms = 2;
+    sum.offsets = {-kA, -kB, 0.0};
+    sum.has_minuend = sum.has_divisor = sum.coordinates = true;
+    sum.minuend = kR * kR;
+    sum.divisor = 2 * kR;
+    return sum;
+  }
+  void fused() {
+    const sage::ConstTupleLanes<T> arguments[2] = {coordinate(0), coordinate(1)};
+    sage::square_sum_lanes(disk(), arguments, sage::TupleLanes<T>{out.data(), kLanes}, kLanes);
+  }
+  // Offset (the value + c, the partials + 0.0) and Square into `to`.
+  void offset_square(int a, double c, std::vector<double>& to) {
+    sage::array_op(sage::ArrayOp::Offset, coordinates[a].data(), nullptr, c, 0, 0, to.data(), kLanes);
+    sage::array_op(sage::ArrayOp::Offset, coordinates[a].data() + kLanes, nullptr, 0.0, 0, 0, to.data() + kLanes,
+                   2 * kLanes);
+    sage::square_lanes(sage::ConstTupleLanes<T>{to.data(), kLanes}, sage::TupleLanes<T>{to.data(), kLanes}, kLanes);
+  }
+  void one_by_one() {
+    offset_square(0, -kA, out);
+    offset_square(1, -kB, scratch);
+    sage::array_op(sage::ArrayOp::Add, out.data(), scratch.data(), 0, 0, 0, out.data(), T::size * kLanes);
+    sage::array_op(sage::ArrayOp::ConstantMinus, out.data(), nullptr, kR * kR, 0, 0, out.data(), kLanes);
+    sage::array_op(sage::ArrayOp::ConstantMinus, out.data() + kLanes, nullptr, 0.0, 0, 0, out.data() + kLanes,
+                   2 * kLanes);
+    sage::div_constant_lanes(sage::ConstTupleLanes<T>{out.data(), kLanes}, 2 * kR,
+                             sage::TupleLanes<T>{out.data(), kLanes}, kLanes, false);
+  }
+};
+
+void BM_disk_one_by_one(benchmark::State& state) {
+  DiskBatch batch;
+  for (auto _ : state) {
+    batch.one_by_one();
+    benchmark::DoNotOptimize(batch.out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+void BM_disk_fused(benchmark::State& state) {
+  DiskBatch batch;
+  batch.one_by_one();
+  const std::vector<double> expected = batch.out;
+  batch.fused();
+  if (batch.out != expected) throw std::logic_error("the fused disk should give the instructions' numbers");
+  for (auto _ : state) {
+    batch.fused();
+    benchmark::DoNotOptimize(batch.out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+BENCHMARK(BM_disk_one_by_one);
+BENCHMARK(BM_disk_fused);
+
 // Keeps each run's time per lane for the ratios printed at the end.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
@@ -241,6 +317,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ratio("r0", "BM_by_component<0>", "BM_tuple_at_a_time<0>");
     ratio("rp:4", "BM_by_component<4>", "BM_tuple_at_a_time<4>");
     ratio("patch", "BM_patch_rows", "BM_patch_point_by_point");
+    ratio("disk", "BM_disk_fused", "BM_disk_one_by_one");
     const char* arith[] = {"kMul", "kSquare", "kSqrt", "kDiv", "kPow4"};
     const char* names[] = {"mul", "square", "sqrt", "div", "pow 4"};
     for (int a = 0; a < 5; ++a)

@@ -11,13 +11,16 @@
 //    and over batches wider than their chunks;
 //  - for products, squares, roots, quotients and integer powers of
 //    first-order tuples (tuple_op_lanes.hpp), at signed zeros, NaN,
-//    infinities and the operators' singular branches.
+//    infinities and the operators' singular branches;
+//  - for sums of squares fused into one kernel (square_sum.hpp: balls,
+//    disks), which are found where they are and nowhere else.
 
 #include "test_support.hpp"
 
 #include <sage/expression/primitives.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/square_sum.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
 #include <gtest/gtest.h>
@@ -185,6 +188,105 @@ TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
   expect_batch_equals_evaluator<double>(values, points, 64);
   const Tape planar(std::vector<Expr>{x * y, square(x), sqrt(x - y), x / y, div_safe(x, y), pow_int(y, 5)}, 2);
   expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 150);
+}
+
+// The runs BatchEvaluator fuses (square_sum.hpp) in `tape`, as it finds them.
+std::vector<SquareSumRun> square_sum_runs(const Tape& tape) {
+  std::vector<char> is_constant(tape.register_count(), 0);
+  std::vector<double> constant_value(tape.register_count(), 0.0);
+  for (const auto& [r, c] : tape.constants()) {
+    is_constant[r] = 1;
+    constant_value[r] = c;
+  }
+  std::vector<SquareSumRun> runs;
+  for (std::size_t i = 0; i < tape.code().size(); ++i)
+    if (auto run = find_square_sum(tape, i, is_constant, constant_value)) {
+      runs.push_back(*run);
+      i += run->length - 1;
+    }
+  return runs;
+}
+
+TEST(BatchEvaluator, FusedSumsOfSquaresAreTheirInstructionsFound) {
+  // A ball is ten instructions: three Offset-Square terms summed, r^2
+  // minus the sum, divided by 2 r. All of it is one run, over the point's
+  // coordinates in order.
+  const Tape tape(ball({0.5, -0.25, 2.0}, 0.75, 3), 3);
+  ASSERT_EQ(tape.code().size(), 10u);
+  const auto runs = square_sum_runs(tape);
+  ASSERT_EQ(runs.size(), 1u);
+  const SquareSumRun& run = runs[0];
+  EXPECT_EQ(run.length, 10u);
+  EXPECT_EQ(run.sum.terms, 3);
+  EXPECT_TRUE(run.sum.coordinates);
+  EXPECT_EQ(run.sum.offsets, (std::array<double, 3>{-0.5, 0.25, -2.0}));
+  EXPECT_TRUE(run.sum.has_minuend);
+  EXPECT_EQ(run.sum.minuend, 0.75 * 0.75);
+  EXPECT_TRUE(run.sum.has_divisor);
+  EXPECT_EQ(run.sum.divisor, 1.5);
+  EXPECT_EQ(run.out, tape.results()[0]);
+
+  // A sum read twice ends the run where it is read: r^2 - s stays its own
+  // instruction, the sum itself is still fused.
+  const Expr x = Expr::x(), y = Expr::y();
+  const Expr s = square(x - 1.0) + square(y + 2.0);
+  const Tape shared(std::vector<Expr>{s, 4.0 - s}, 2);
+  const auto shared_runs = square_sum_runs(shared);
+  ASSERT_EQ(shared_runs.size(), 1u);
+  EXPECT_EQ(shared_runs[0].sum.terms, 2);
+  EXPECT_FALSE(shared_runs[0].sum.has_minuend);
+  EXPECT_EQ(shared_runs[0].length, 5u);
+  // Terms over other registers, or the coordinates out of order, fuse too,
+  // but not as coordinates.
+  const Tape swapped(square(y - 1.0) + square(x - 2.0), 2);
+  const auto swapped_runs = square_sum_runs(swapped);
+  ASSERT_EQ(swapped_runs.size(), 1u);
+  EXPECT_FALSE(swapped_runs[0].sum.coordinates);
+  // A centre coordinate 0 leaves a Square alone: still a term.
+  const auto axis_runs = square_sum_runs(Tape(ball({0.5, 0.0, 0.0}, 0.75, 3), 3));
+  ASSERT_EQ(axis_runs.size(), 1u);
+  EXPECT_EQ(axis_runs[0].length, 8u);
+  EXPECT_TRUE(axis_runs[0].sum.coordinates);
+  // A single square with nothing after it is left to the square kernel.
+  EXPECT_TRUE(square_sum_runs(Tape(square(x - 1.0) * y, 2)).empty());
+}
+
+TEST(BatchEvaluator, FusedSumsOfSquaresGiveTheInstructionsBits) {
+  // Balls, disks and other sums of squares run as one kernel give what
+  // their instructions give one by one, in doubles and first-order tuples,
+  // at signed zeros, NaN and infinities too, also where the run's output
+  // register is one of its arguments' and next to instructions it must not
+  // swallow.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr s = square(x - 1.0) + square(y + 2.0);
+  const std::vector<Expr> roots{ball({0.5, -0.25, 2.0}, 0.75, 3),
+                                r_or(ball({0.1, 0.2, 0.3}, 0.5, 3), ball({-0.4, 0.0, 0.1}, 0.25, 3), RSystem::r0()),
+                                square(x * y - 1.0) + square(z + 2.0),  // terms over computed registers
+                                square(z - 1.0) + square(x + 0.5) + square(y),
+                                (2.0 - square(x - 0.125)) / 3.0,  // one term with both tails
+                                square(y + 0.25) / 0.0,           // a zero divisor is the quotient's own business
+                                s,
+                                4.0 - s,
+                                s * x};
+  const Tape tape(roots, 3);
+  ASSERT_EQ(square_sum_runs(tape).size(), 7u);  // s once; not the zero divisor
+  Points points = random_points(150, 36, -1.5, 1.5);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  const std::vector<std::array<double, 3>> special{{0.0, 0.0, 0.0},   {-0.0, -0.0, -0.0}, {1.0, -2.0, -1.0},
+                                                   {0.5, 0.25, -2.0}, {nan, 1.0, 0.0},    {1.0, nan, -nan},
+                                                   {inf, 2.0, 0.0},   {2.0, -inf, inf},   {1e-170, 1e170, 0.0}};
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    points[7 * k] = special[k];
+    points[149 - k] = special[k];
+  }
+  expect_batch_equals_evaluator<double>(tape, points, 64);
+  expect_batch_equals_evaluator<double>(tape, points, 150);
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 64);
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 150);
+  const Tape planar(std::vector<Expr>{ball({0.5, -0.25, 0.0}, 0.75, 2), s, 4.0 - s, square(y - 1.0) + square(x)}, 2);
+  ASSERT_EQ(square_sum_runs(planar).size(), 3u);
+  expect_batch_equals_evaluator<double>(planar, points, 64);
+  expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 64);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

@@ -23,6 +23,7 @@
 #include <sage/scalars/tuple_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/square_sum.hpp>
 
 #include <array>
 #include <cstddef>
@@ -52,6 +53,7 @@ class BatchEvaluator {
       is_constant_[r] = 1;
       constant_value_[r] = c;
     }
+    find_square_sums();
   }
 
   std::size_t width() const { return width_; }
@@ -144,6 +146,12 @@ class BatchEvaluator {
     for (std::size_t i = 0; i < code.size(); ++i) {
       const Instruction& ins = code[i];
       if constexpr (kLaneKernels) {
+        if (square_sum_at_[i]) {
+          const SquareSumRun& fused = square_sums_[square_sum_at_[i] - 1];
+          run_square_sum(fused, count);
+          i += fused.length - 1;
+          continue;
+        }
         if (ins.op == Op::Patch && layout) {
           if constexpr (std::is_same_v<T, double>) {
             ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, component(ins.out));
@@ -341,6 +349,34 @@ class BatchEvaluator {
                count);
   }
 
+  // The tape's fused sums of squares (square_sum.hpp), by first instruction.
+  void find_square_sums() {
+    square_sums_.clear();
+    if constexpr (kLaneKernels) {
+      const std::size_t n = tape_->code().size();
+      square_sum_at_.assign(n, 0);
+      for (std::size_t i = 0; i < n; ++i)
+        if (auto fused = find_square_sum(*tape_, i, is_constant_, constant_value_)) {
+          square_sums_.push_back(*fused);
+          square_sum_at_[i] = static_cast<std::uint32_t>(square_sums_.size());
+          i += fused->length - 1;
+        }
+    }
+  }
+
+  void run_square_sum(const SquareSumRun& fused, std::size_t count) {
+    const auto terms = static_cast<std::size_t>(fused.sum.terms);
+    if constexpr (std::is_same_v<T, double>) {
+      std::array<const double*, 3> arguments{};
+      for (std::size_t j = 0; j < terms; ++j) arguments[j] = component(fused.arguments[j]);
+      square_sum_values(fused.sum, arguments.data(), component(fused.out), count);
+    } else {
+      std::array<ConstTupleLanes<T>, 3> arguments{};
+      for (std::size_t j = 0; j < terms; ++j) arguments[j] = lanes_of(fused.arguments[j]);
+      square_sum_lanes(fused.sum, arguments.data(), lanes_of(fused.out), count);
+    }
+  }
+
   // The kernels' view of a register: its doubles, or its tuple lanes.
   auto lanes_or_doubles(std::uint32_t r) {
     if constexpr (std::is_same_v<T, double>)
@@ -364,6 +400,10 @@ class BatchEvaluator {
   // as one number rather than as lanes.
   std::vector<char> is_constant_;
   std::vector<double> constant_value_;
+  // Fused runs of instructions, and by instruction 1 + the index of the
+  // run starting there (0: none).
+  std::vector<SquareSumRun> square_sums_;
+  std::vector<std::uint32_t> square_sum_at_;
   std::size_t count_ = 0;
   std::vector<double> data_;
 };
