@@ -254,14 +254,14 @@ TEST(BatchEvaluator, FusedSumsOfSquaresAreTheirInstructionsFound) {
 TEST(BatchEvaluator, FusedSumsOfSquaresGiveTheInstructionsBits) {
   // Balls, disks and other sums of squares run as one kernel give what
   // their instructions give one by one, in doubles and first-order tuples,
-  // at signed zeros, NaN and infinities too, also where the run's output
-  // register is one of its arguments' and next to instructions it must not
-  // swallow.
+  // at signed zeros, NaN and infinities too, and next to instructions they
+  // must not swallow.
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
   const Expr s = square(x - 1.0) + square(y + 2.0);
   const std::vector<Expr> roots{ball({0.5, -0.25, 2.0}, 0.75, 3),
                                 r_or(ball({0.1, 0.2, 0.3}, 0.5, 3), ball({-0.4, 0.0, 0.1}, 0.25, 3), RSystem::r0()),
                                 square(x * y - 1.0) + square(z + 2.0),  // terms over computed registers
+                                square(x * z) + square(y),
                                 square(z - 1.0) + square(x + 0.5) + square(y),
                                 (2.0 - square(x - 0.125)) / 3.0,  // one term with both tails
                                 square(y + 0.25) / 0.0,           // a zero divisor is the quotient's own business
@@ -269,7 +269,7 @@ TEST(BatchEvaluator, FusedSumsOfSquaresGiveTheInstructionsBits) {
                                 4.0 - s,
                                 s * x};
   const Tape tape(roots, 3);
-  ASSERT_EQ(square_sum_runs(tape).size(), 7u);  // s once; not the zero divisor
+  ASSERT_EQ(square_sum_runs(tape).size(), 8u);  // s once; not the zero divisor
   Points points = random_points(150, 36, -1.5, 1.5);
   const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
   const std::vector<std::array<double, 3>> special{{0.0, 0.0, 0.0},   {-0.0, -0.0, -0.0}, {1.0, -2.0, -1.0},
