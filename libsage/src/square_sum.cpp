@@ -32,7 +32,7 @@ std::optional<SquareSumRun> find_square_sum(const Tape& tape, std::size_t first,
   auto only_reader_next = [&](std::size_t k) { return readers[k] == 1; };
   // A term at j: Offset(a) then its Square, or a Square alone (offset 0:
   // squaring a + 0.0 gives the bits of squaring a, as only the sign of a
-  // zero can differ). Returns the index of its Square, or n if none.
+  // zero can differ).
   struct Term {
     std::uint32_t argument;
     double offset;
