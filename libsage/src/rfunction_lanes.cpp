@@ -3,11 +3,11 @@
 // the divisions of several lanes in one vector instruction. The arithmetic
 // is tuple.hpp's and rfunction.hpp's r0_combine and rp_combine, operation
 // for operation (detail::r0_from_root and detail::rp_from_factors finish
-// the tuples of both; here over tuples stored by component, R0 a lane at a
-// time, Rp a component at a time). Each entry point is also compiled for AVX2, chosen at run
-// time (four lanes per root or division instead of two: Greenland's R0
-// field 10% faster on one thread); AVX2 has no fused multiply-add, so the
-// bits stay the same.
+// the tuples of both; here over tuples stored by component, R0 a lane at
+// a time, Rp a component at a time). Each entry point is also compiled
+// for AVX2, chosen at run time (four lanes per root or division instead of
+// two: Greenland's R0 field 10% faster on one thread); AVX2 has no fused
+// multiply-add, so the bits stay the same.
 //
 // Every lane reads its own arguments before it writes its result, and no
 // other lane's: so `out` may be `x` or `y`, and `#pragma GCC ivdep` tells
@@ -98,17 +98,8 @@ template <int N>
       r0_regular(x, y, out, start, n, sign);
       continue;
     }
-    // The corner (both values 0) and NaN: r0_combine's own branches.
-    for (std::size_t l = 0; l < n; ++l) {
-      const Tuple<N, 1> a = x.load(start + l), b = y.load(start + l);
-      const double r2 = x0[l] * x0[l] + y0[l] * y0[l];
-      if (!(r2 > 0.0)) {
-        out.store(start + l, r0_combine(a, b, sign));
-        continue;
-      }
-      const double root = std::sqrt(r2);
-      out.store(start + l, detail::r0_from_root(a, b, sign, root, sign * root * 0.5 / r2));
-    }
+    // A chunk with the corner (both values 0) or NaN: r0_combine itself.
+    for (std::size_t l = 0; l < n; ++l) out.store(start + l, r0_combine(x.load(start + l), y.load(start + l), sign));
   }
 }
 
