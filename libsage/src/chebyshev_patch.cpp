@@ -1,7 +1,7 @@
 #include <sage/sampling/chebyshev_patch.hpp>
 #include <sage/scalars/tuple.hpp>
 
-#include "also_avx2.hpp"
+#include "vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -283,7 +283,7 @@ struct ChebyshevPatch::RowFactorLanes {
   double e[kMaxDegree + 1][kLanes], ev[kMaxDegree + 1][kLanes], ew[kMaxDegree + 1][kLanes];
 };
 
-SAGE_ALSO_AVX2 void ChebyshevPatch::row_factor_lanes(const std::array<double, 2>* rows, std::size_t count,
+SAGE_VECTOR_CLONES void ChebyshevPatch::row_factor_lanes(const std::array<double, 2>* rows, std::size_t count,
                                                      RowFactorLanes& f) const {
   const int d = degree_;
   const double* c = coefficients_.data();
@@ -364,7 +364,7 @@ T ChebyshevPatch::evaluate_first_order(const T* vars) const {
 }
 
 template <class T, class Vars, class Out>
-SAGE_ALSO_AVX2 void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
+SAGE_VECTOR_CLONES void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
                                               std::size_t row_count, Vars vars, Out out) const {
   constexpr bool kGradient = !std::is_same_v<T, double>;
   const int d = degree_;

@@ -5,9 +5,8 @@
 // for operation (detail::r0_from_root and detail::rp_from_factors finish
 // the tuples of both; here over tuples stored by component, R0 a lane at
 // a time, Rp a component at a time). Each entry point is also compiled
-// for AVX2, chosen at run time (four lanes per root or division instead of
-// two: Greenland's R0 field 10% faster on one thread); AVX2 has no fused
-// multiply-add, so the bits stay the same.
+// for AVX2 and AVX-512, chosen at run time (vector_clones.hpp: four or
+// eight lanes per root or division instead of two), with the same bits.
 //
 // Every lane reads its own arguments before it writes its result, and no
 // other lane's: so `out` may be `x` or `y`, and `#pragma GCC ivdep` tells
@@ -17,7 +16,7 @@
 
 #include <sage/scalars/rfunction.hpp>
 
-#include "also_avx2.hpp"
+#include "vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -211,31 +210,31 @@ template <class In, class Out>
 
 }  // namespace
 
-SAGE_ALSO_AVX2 void r0_combine_lanes(const double* x, const double* y, double* out, std::size_t count, double sign) {
+SAGE_VECTOR_CLONES void r0_combine_lanes(const double* x, const double* y, double* out, std::size_t count, double sign) {
   // rfunction.hpp's r0_combine<double>, operation for operation.
   for (std::size_t l = 0; l < count; ++l) {
     const double r2 = x[l] * x[l] + y[l] * y[l];
     out[l] = x[l] + y[l] + sign * std::sqrt(r2 > 0 ? r2 : 0.0);
   }
 }
-SAGE_ALSO_AVX2 void r0_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
+SAGE_VECTOR_CLONES void r0_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
                                      TupleLanes<Tuple<2, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
-SAGE_ALSO_AVX2 void r0_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
+SAGE_VECTOR_CLONES void r0_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
                                      TupleLanes<Tuple<3, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
 
-SAGE_ALSO_AVX2 void rp_combine_lanes(const double* x, const double* y, double* out, std::size_t count, int p,
+SAGE_VECTOR_CLONES void rp_combine_lanes(const double* x, const double* y, double* out, std::size_t count, int p,
                                      double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
-SAGE_ALSO_AVX2 void rp_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
+SAGE_VECTOR_CLONES void rp_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
                                      TupleLanes<Tuple<2, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
-SAGE_ALSO_AVX2 void rp_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
+SAGE_VECTOR_CLONES void rp_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
                                      TupleLanes<Tuple<3, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }

@@ -1,6 +1,6 @@
 // Fused sums of squares (square_sum.hpp). Compiled without errno and
-// trapping math, as tuple_op_lanes.cpp, and for AVX2 too (no fused
-// multiply-adds there, so the same bits).
+// trapping math, as tuple_op_lanes.cpp, and for AVX2 and AVX-512 too
+// (vector_clones.hpp: no fused multiply-adds, so the same bits).
 //
 // The arithmetic, step for step, is what BatchEvaluator's kernels do for
 // the instructions of the run (tests/libsage/batch_evaluator_test.cpp
@@ -17,7 +17,7 @@
 
 #include <sage/tape/square_sum.hpp>
 
-#include "also_avx2.hpp"
+#include "vector_clones.hpp"
 
 #include <type_traits>
 
@@ -167,7 +167,7 @@ template <int Terms, bool Minuend, bool Divisor>
 
 // Calls run(terms, minuend, divisor) with the run's shape as compile-time
 // constants. Everything down to the loop is inlined into the entry points,
-// so their AVX2 clones compile it for AVX2.
+// so their clones compile it for AVX2 and AVX-512.
 template <class Run>
 [[gnu::always_inline]] inline void dispatch(const SquareSum& sum, Run run) {
   auto tails = [&](auto terms) __attribute__((always_inline)) {
@@ -199,15 +199,15 @@ template <int N>
 
 }  // namespace
 
-SAGE_ALSO_AVX2 void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<2>* arguments,
+SAGE_VECTOR_CLONES void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<2>* arguments,
                                      FirstOrderLanes<2> out, std::size_t count) {
   square_sum_tuples(sum, arguments, out, count);
 }
-SAGE_ALSO_AVX2 void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<3>* arguments,
+SAGE_VECTOR_CLONES void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<3>* arguments,
                                      FirstOrderLanes<3> out, std::size_t count) {
   square_sum_tuples(sum, arguments, out, count);
 }
-SAGE_ALSO_AVX2 void square_sum_values(const SquareSum& sum, const double* const* arguments, double* out,
+SAGE_VECTOR_CLONES void square_sum_values(const SquareSum& sum, const double* const* arguments, double* out,
                                       std::size_t count) {
   dispatch(
       sum, [&](auto terms, auto minuend, auto divisor) __attribute__((always_inline)) {

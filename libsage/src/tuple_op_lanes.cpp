@@ -1,7 +1,7 @@
 // Compiled without errno (libsage/CMakeLists.txt), as rfunction_lanes.cpp:
 // the roots and divisions of several lanes run in one vector instruction.
-// Each entry point is also compiled for AVX2 (also_avx2.hpp; no fused
-// multiply-adds, so the same bits).
+// Each entry point is also compiled for AVX2 and AVX-512
+// (vector_clones.hpp; no fused multiply-adds, so the same bits).
 //
 // tuple.hpp's arithmetic for K = 1, term for term: a product's partial k is
 // (0.0 + a0 bk) + ak b0 (the product table accumulates into zeros; with
@@ -13,7 +13,7 @@
 
 #include <sage/scalars/tuple_op_lanes.hpp>
 
-#include "also_avx2.hpp"
+#include "vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -213,56 +213,56 @@ template <int N>
 
 }  // namespace
 
-SAGE_ALSO_AVX2 void mul_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
+SAGE_VECTOR_CLONES void mul_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
                               std::size_t count) {
   mul(a, b, out, count);
 }
-SAGE_ALSO_AVX2 void mul_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
+SAGE_VECTOR_CLONES void mul_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
                               std::size_t count) {
   mul(a, b, out, count);
 }
-SAGE_ALSO_AVX2 void mul_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count) {
+SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count) {
   mul_constant(a, c, out, count);
 }
-SAGE_ALSO_AVX2 void mul_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count) {
+SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count) {
   mul_constant(a, c, out, count);
 }
-SAGE_ALSO_AVX2 void div_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count,
+SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count,
                                        bool safe) {
   div_constant(a, c, out, count, safe);
 }
-SAGE_ALSO_AVX2 void div_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count,
+SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count,
                                        bool safe) {
   div_constant(a, c, out, count, safe);
 }
-SAGE_ALSO_AVX2 void square_lanes(ConstFirstOrderLanes<2> a, FirstOrderLanes<2> out, std::size_t count) {
+SAGE_VECTOR_CLONES void square_lanes(ConstFirstOrderLanes<2> a, FirstOrderLanes<2> out, std::size_t count) {
   mul(a, a, out, count);
 }
-SAGE_ALSO_AVX2 void square_lanes(ConstFirstOrderLanes<3> a, FirstOrderLanes<3> out, std::size_t count) {
+SAGE_VECTOR_CLONES void square_lanes(ConstFirstOrderLanes<3> a, FirstOrderLanes<3> out, std::size_t count) {
   mul(a, a, out, count);
 }
-SAGE_ALSO_AVX2 void sqrt_lanes(ConstFirstOrderLanes<2> a, FirstOrderLanes<2> out, std::size_t count) {
+SAGE_VECTOR_CLONES void sqrt_lanes(ConstFirstOrderLanes<2> a, FirstOrderLanes<2> out, std::size_t count) {
   sqrt_of(a, out, count);
 }
-SAGE_ALSO_AVX2 void sqrt_lanes(ConstFirstOrderLanes<3> a, FirstOrderLanes<3> out, std::size_t count) {
+SAGE_VECTOR_CLONES void sqrt_lanes(ConstFirstOrderLanes<3> a, FirstOrderLanes<3> out, std::size_t count) {
   sqrt_of(a, out, count);
 }
-SAGE_ALSO_AVX2 void div_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
+SAGE_VECTOR_CLONES void div_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
                               std::size_t count, bool safe) {
   div(a, b, out, count, safe);
 }
-SAGE_ALSO_AVX2 void div_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
+SAGE_VECTOR_CLONES void div_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
                               std::size_t count, bool safe) {
   div(a, b, out, count, safe);
 }
-SAGE_ALSO_AVX2 void pow_int_lanes(ConstFirstOrderLanes<2> a, int n, FirstOrderLanes<2> out, std::size_t count) {
+SAGE_VECTOR_CLONES void pow_int_lanes(ConstFirstOrderLanes<2> a, int n, FirstOrderLanes<2> out, std::size_t count) {
   pow_int_of(a, n, out, count);
 }
-SAGE_ALSO_AVX2 void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrderLanes<3> out, std::size_t count) {
+SAGE_VECTOR_CLONES void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrderLanes<3> out, std::size_t count) {
   pow_int_of(a, n, out, count);
 }
 
-SAGE_ALSO_AVX2 void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2, double* out,
+SAGE_VECTOR_CLONES void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2, double* out,
                              std::size_t n) {
   // Each element reads its arguments before it writes (out may be a or b).
   auto unary = [&](auto f) {

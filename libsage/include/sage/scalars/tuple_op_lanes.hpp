@@ -60,7 +60,7 @@ void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrderLanes<3> out, std
 /// treat every coefficient alike (one component's lanes, or a register's
 /// components back to back, or doubles): out[i] = op(a[i], b[i]), the
 /// arithmetic of scalar.hpp, compiled for AVX2
-/// too (BatchEvaluator itself is not: these sums then ran two doubles per
+/// and AVX-512 too (BatchEvaluator itself is not: these sums then ran two doubles per
 /// instruction). out may be a or b.
 enum class ArrayOp {
   Add,            // a + b

@@ -238,7 +238,7 @@ class BatchEvaluator {
   }
 
   // The arithmetic of values (scalar.hpp's) over whole arrays, compiled for
-  // AVX2 too; constant factors, divisors and terms read as one number.
+  // AVX2 and AVX-512 too; constant factors, divisors and terms read as one number.
   // False for other ops.
   bool run_double_arithmetic(const Instruction& ins, std::size_t count) {
     const double* a = component(ins.a);
