@@ -284,7 +284,7 @@ struct ChebyshevPatch::RowFactorLanes {
 };
 
 SAGE_VECTOR_CLONES void ChebyshevPatch::row_factor_lanes(const std::array<double, 2>* rows, std::size_t count,
-                                                     RowFactorLanes& f) const {
+                                                         RowFactorLanes& f) const {
   const int d = degree_;
   const double* c = coefficients_.data();
   if (dimension_ == 1) {
@@ -365,7 +365,7 @@ T ChebyshevPatch::evaluate_first_order(const T* vars) const {
 
 template <class T, class Vars, class Out>
 SAGE_VECTOR_CLONES void ChebyshevPatch::rows_into(const double* xs, std::size_t nx, const std::array<double, 2>* rows,
-                                              std::size_t row_count, Vars vars, Out out) const {
+                                                  std::size_t row_count, Vars vars, Out out) const {
   constexpr bool kGradient = !std::is_same_v<T, double>;
   const int d = degree_;
   double t0[kMaxDegree + 1][kLanes], dt0[kMaxDegree + 1][kLanes];

@@ -210,7 +210,8 @@ template <class In, class Out>
 
 }  // namespace
 
-SAGE_VECTOR_CLONES void r0_combine_lanes(const double* x, const double* y, double* out, std::size_t count, double sign) {
+SAGE_VECTOR_CLONES void r0_combine_lanes(const double* x, const double* y, double* out, std::size_t count,
+                                         double sign) {
   // rfunction.hpp's r0_combine<double>, operation for operation.
   for (std::size_t l = 0; l < count; ++l) {
     const double r2 = x[l] * x[l] + y[l] * y[l];
@@ -218,24 +219,24 @@ SAGE_VECTOR_CLONES void r0_combine_lanes(const double* x, const double* y, doubl
   }
 }
 SAGE_VECTOR_CLONES void r0_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
-                                     TupleLanes<Tuple<2, 1>> out, std::size_t count, double sign) {
+                                         TupleLanes<Tuple<2, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
 SAGE_VECTOR_CLONES void r0_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
-                                     TupleLanes<Tuple<3, 1>> out, std::size_t count, double sign) {
+                                         TupleLanes<Tuple<3, 1>> out, std::size_t count, double sign) {
   r0_lanes(x, y, out, count, sign);
 }
 
 SAGE_VECTOR_CLONES void rp_combine_lanes(const double* x, const double* y, double* out, std::size_t count, int p,
-                                     double sign) {
+                                         double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
 SAGE_VECTOR_CLONES void rp_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,
-                                     TupleLanes<Tuple<2, 1>> out, std::size_t count, int p, double sign) {
+                                         TupleLanes<Tuple<2, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
 SAGE_VECTOR_CLONES void rp_combine_lanes(ConstTupleLanes<Tuple<3, 1>> x, ConstTupleLanes<Tuple<3, 1>> y,
-                                     TupleLanes<Tuple<3, 1>> out, std::size_t count, int p, double sign) {
+                                         TupleLanes<Tuple<3, 1>> out, std::size_t count, int p, double sign) {
   rp_lanes_of_order(x, y, out, count, p, sign);
 }
 

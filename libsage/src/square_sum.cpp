@@ -200,15 +200,15 @@ template <int N>
 }  // namespace
 
 SAGE_VECTOR_CLONES void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<2>* arguments,
-                                     FirstOrderLanes<2> out, std::size_t count) {
+                                         FirstOrderLanes<2> out, std::size_t count) {
   square_sum_tuples(sum, arguments, out, count);
 }
 SAGE_VECTOR_CLONES void square_sum_lanes(const SquareSum& sum, const ConstFirstOrderLanes<3>* arguments,
-                                     FirstOrderLanes<3> out, std::size_t count) {
+                                         FirstOrderLanes<3> out, std::size_t count) {
   square_sum_tuples(sum, arguments, out, count);
 }
 SAGE_VECTOR_CLONES void square_sum_values(const SquareSum& sum, const double* const* arguments, double* out,
-                                      std::size_t count) {
+                                          std::size_t count) {
   dispatch(
       sum, [&](auto terms, auto minuend, auto divisor) __attribute__((always_inline)) {
         square_sum<terms(), minuend(), divisor()>(sum, arguments, out, count);

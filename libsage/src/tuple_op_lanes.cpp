@@ -214,25 +214,27 @@ template <int N>
 }  // namespace
 
 SAGE_VECTOR_CLONES void mul_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
-                              std::size_t count) {
+                                  std::size_t count) {
   mul(a, b, out, count);
 }
 SAGE_VECTOR_CLONES void mul_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
-                              std::size_t count) {
+                                  std::size_t count) {
   mul(a, b, out, count);
 }
-SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count) {
+SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out,
+                                           std::size_t count) {
   mul_constant(a, c, out, count);
 }
-SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count) {
+SAGE_VECTOR_CLONES void mul_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out,
+                                           std::size_t count) {
   mul_constant(a, c, out, count);
 }
-SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out, std::size_t count,
-                                       bool safe) {
+SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<2> a, double c, FirstOrderLanes<2> out,
+                                           std::size_t count, bool safe) {
   div_constant(a, c, out, count, safe);
 }
-SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out, std::size_t count,
-                                       bool safe) {
+SAGE_VECTOR_CLONES void div_constant_lanes(ConstFirstOrderLanes<3> a, double c, FirstOrderLanes<3> out,
+                                           std::size_t count, bool safe) {
   div_constant(a, c, out, count, safe);
 }
 SAGE_VECTOR_CLONES void square_lanes(ConstFirstOrderLanes<2> a, FirstOrderLanes<2> out, std::size_t count) {
@@ -248,11 +250,11 @@ SAGE_VECTOR_CLONES void sqrt_lanes(ConstFirstOrderLanes<3> a, FirstOrderLanes<3>
   sqrt_of(a, out, count);
 }
 SAGE_VECTOR_CLONES void div_lanes(ConstFirstOrderLanes<2> a, ConstFirstOrderLanes<2> b, FirstOrderLanes<2> out,
-                              std::size_t count, bool safe) {
+                                  std::size_t count, bool safe) {
   div(a, b, out, count, safe);
 }
 SAGE_VECTOR_CLONES void div_lanes(ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b, FirstOrderLanes<3> out,
-                              std::size_t count, bool safe) {
+                                  std::size_t count, bool safe) {
   div(a, b, out, count, safe);
 }
 SAGE_VECTOR_CLONES void pow_int_lanes(ConstFirstOrderLanes<2> a, int n, FirstOrderLanes<2> out, std::size_t count) {
@@ -262,8 +264,8 @@ SAGE_VECTOR_CLONES void pow_int_lanes(ConstFirstOrderLanes<3> a, int n, FirstOrd
   pow_int_of(a, n, out, count);
 }
 
-SAGE_VECTOR_CLONES void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2, double* out,
-                             std::size_t n) {
+SAGE_VECTOR_CLONES void array_op(ArrayOp op, const double* a, const double* b, double p0, double p1, double p2,
+                                 double* out, std::size_t n) {
   // Each element reads its arguments before it writes (out may be a or b).
   auto unary = [&](auto f) {
 #pragma GCC ivdep
