@@ -13,13 +13,17 @@
 //    first-order tuples (tuple_op_lanes.hpp), at signed zeros, NaN,
 //    infinities and the operators' singular branches;
 //  - for sums of squares fused into one kernel (square_sum.hpp: balls,
-//    disks), which are found where they are and nowhere else.
+//    disks) and for smooth trimmings fused likewise (smooth_trim.hpp: every
+//    face of a mesh, every edge of a polygon B-rep), which are found where
+//    they are and nowhere else.
 
 #include "test_support.hpp"
 
 #include <sage/expression/primitives.hpp>
+#include <sage/expression/trimming.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
@@ -190,21 +194,42 @@ TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
   expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 150);
 }
 
-// The runs BatchEvaluator fuses (square_sum.hpp) in `tape`, as it finds them.
-std::vector<SquareSumRun> square_sum_runs(const Tape& tape) {
+// The runs that `find` (find_square_sum, find_smooth_trim) finds in
+// `tape`, as BatchEvaluator looks for them.
+template <class Find>
+auto fused_runs(const Tape& tape, Find find) {
   std::vector<char> is_constant(tape.register_count(), 0);
   std::vector<double> constant_value(tape.register_count(), 0.0);
   for (const auto& [r, c] : tape.constants()) {
     is_constant[r] = 1;
     constant_value[r] = c;
   }
-  std::vector<SquareSumRun> runs;
+  std::vector<typename decltype(find(tape, 0, is_constant, constant_value))::value_type> runs;
   for (std::size_t i = 0; i < tape.code().size(); ++i)
-    if (auto run = find_square_sum(tape, i, is_constant, constant_value)) {
+    if (auto run = find(tape, i, is_constant, constant_value)) {
       runs.push_back(*run);
       i += run->length - 1;
     }
   return runs;
+}
+
+std::vector<SquareSumRun> square_sum_runs(const Tape& tape) { return fused_runs(tape, find_square_sum); }
+std::vector<SmoothTrimRun> smooth_trim_runs(const Tape& tape) { return fused_runs(tape, find_smooth_trim); }
+
+// 150 points with `special` among the first chunk and the last lanes.
+void place_special_points(Points& points, const std::vector<std::array<double, 3>>& special) {
+  for (std::size_t k = 0; k < special.size(); ++k) {
+    points[7 * k] = special[k];
+    points[149 - k] = special[k];
+  }
+}
+
+// A 3D tape with fused runs, in doubles and tuples, full and partial batches.
+void expect_fused_bits(const Tape& tape, const Points& points) {
+  expect_batch_equals_evaluator<double>(tape, points, 64);
+  expect_batch_equals_evaluator<double>(tape, points, 150);
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 64);
+  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 150);
 }
 
 TEST(BatchEvaluator, FusedSumsOfSquaresAreTheirInstructionsFound) {
@@ -275,16 +300,79 @@ TEST(BatchEvaluator, FusedSumsOfSquaresGiveTheInstructionsBits) {
   const std::vector<std::array<double, 3>> special{{0.0, 0.0, 0.0},   {-0.0, -0.0, -0.0}, {1.0, -2.0, -1.0},
                                                    {0.5, 0.25, -2.0}, {nan, 1.0, 0.0},    {1.0, nan, -nan},
                                                    {inf, 2.0, 0.0},   {2.0, -inf, inf},   {1e-170, 1e170, 0.0}};
-  for (std::size_t k = 0; k < special.size(); ++k) {
-    points[7 * k] = special[k];
-    points[149 - k] = special[k];
-  }
-  expect_batch_equals_evaluator<double>(tape, points, 64);
-  expect_batch_equals_evaluator<double>(tape, points, 150);
-  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 64);
-  expect_batch_equals_evaluator<Tuple<3, 1>>(tape, points, 150);
+  place_special_points(points, special);
+  expect_fused_bits(tape, points);
   const Tape planar(std::vector<Expr>{ball({0.5, -0.25, 0.0}, 0.75, 2), s, 4.0 - s, square(y - 1.0) + square(x)}, 2);
   ASSERT_EQ(square_sum_runs(planar).size(), 3u);
+  expect_batch_equals_evaluator<double>(planar, points, 64);
+  expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 64);
+}
+
+TEST(BatchEvaluator, FusedSmoothTrimsAreTheirInstructionsFound) {
+  // trim_smooth(h, t) is h^2 (computed first) and then eight instructions:
+  // t^2, h^4, their sum, its root, (root - t) / 2 as one Axpby, its
+  // square, the sum with h^2 and the root of that. With a scale, h is
+  // multiplied by 1 / sqrt(scale) before its fourth power: nine.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr h = x * 0.6 - y * 0.8 + 0.25, t = r_and(z + 1.0, 0.5 - y, RSystem::r0());
+  const Tape plain(trim_smooth(h, t), 3);
+  const auto runs = smooth_trim_runs(plain);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].length, 8u);
+  EXPECT_FALSE(runs[0].trim.has_scale);
+  EXPECT_EQ(runs[0].trim.root_weight, 0.5);
+  EXPECT_EQ(runs[0].trim.t_weight, -0.5);
+  EXPECT_EQ(runs[0].out, plain.results()[0]);
+  EXPECT_EQ(plain.code().back().op, Op::Sqrt);
+
+  const auto scaled = smooth_trim_runs(Tape(trim_smooth(h, t, 4.0), 3));
+  ASSERT_EQ(scaled.size(), 1u);
+  EXPECT_EQ(scaled[0].length, 9u);
+  EXPECT_TRUE(scaled[0].trim.has_scale);
+  EXPECT_EQ(scaled[0].trim.scale, 0.5);
+
+  // A polygon's edges, glued: one run per edge.
+  const Expr edges = r_and(segment_field({0, 0}, {2, 0.5}, TrimMethod::Smooth, RSystem::r0()),
+                           segment_field({2, 0.5}, {-1, 1}, TrimMethod::Smooth, RSystem::r0()), RSystem::r0());
+  EXPECT_EQ(smooth_trim_runs(Tape(edges, 2)).size(), 2u);
+
+  // Where an intermediate is read elsewhere too, the run stops short and
+  // nothing is fused: the root of t^2 + h^4 as a second root.
+  const Expr root = sqrt(square(t) + pow_int(h, 4));
+  const Expr written_out = sqrt(square(h) + square(root * 0.5 - t * 0.5));
+  EXPECT_EQ(smooth_trim_runs(Tape(written_out, 3)).size(), 1u);
+  EXPECT_TRUE(smooth_trim_runs(Tape(std::vector<Expr>{written_out, root}, 3)).empty());
+  // Other powers, or a different mix of root and t, are not the trimming.
+  EXPECT_TRUE(smooth_trim_runs(Tape(sqrt(square(h) + square(sqrt(square(t) + pow_int(h, 6)) - t)), 3)).empty());
+}
+
+TEST(BatchEvaluator, FusedSmoothTrimsGiveTheInstructionsBits) {
+  // Trimmings run as one kernel give what their instructions give one by
+  // one, in doubles and first-order tuples, on the carrier (h = 0: the
+  // fourth power's and both roots' singular branches), at signed zeros,
+  // NaN, infinities and underflow, and next to the R0 nodes that glue them.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr h = x - 0.5, t = r_and(y + 1.0, 1.0 - y, RSystem::r0());
+  const Expr face = trim_smooth(z * 0.8 - x * 0.6, r_and(x + 0.5, 0.5 - z, RSystem::r0()));
+  const std::vector<Expr> roots{trim_smooth(h, t),
+                                trim_smooth(h, t, 0.3),
+                                trim_smooth(y, x),
+                                face,
+                                r_and(face, trim_smooth(h, t), RSystem::r0()),
+                                trim_smooth(h, y * y - 1.0, 2.0)};
+  const Tape tape(roots, 3);
+  ASSERT_EQ(smooth_trim_runs(tape).size(), 6u);
+  Points points = random_points(150, 37, -1.5, 1.5);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  const std::vector<std::array<double, 3>> special{{0.5, 0.0, 0.0},       {0.5, 2.0, -1.0},     {0.5, -0.0, 0.0},
+                                                   {0.0, 0.0, 0.0},       {-0.0, -0.0, -0.0},   {0.5, nan, 0.0},
+                                                   {nan, 1.0, 0.0},       {inf, 2.0, 0.0},      {0.5, -inf, inf},
+                                                   {1e-170, 1e-170, 0.0}, {0.5, 1e170, 1e-300}, {0.6, 0.0, 0.8}};
+  place_special_points(points, special);
+  expect_fused_bits(tape, points);
+  const Tape planar(
+      std::vector<Expr>{trim_smooth(h, y), segment_field({0, 0}, {2, 0.5}, TrimMethod::Smooth, RSystem::r0())}, 2);
+  ASSERT_EQ(smooth_trim_runs(planar).size(), 2u);
   expect_batch_equals_evaluator<double>(planar, points, 64);
   expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 64);
 }

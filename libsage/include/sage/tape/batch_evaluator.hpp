@@ -23,6 +23,7 @@
 #include <sage/scalars/tuple_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 
 #include <array>
@@ -53,7 +54,7 @@ class BatchEvaluator {
       is_constant_[r] = 1;
       constant_value_[r] = c;
     }
-    find_square_sums();
+    find_fused_runs();
   }
 
   std::size_t width() const { return width_; }
@@ -149,6 +150,12 @@ class BatchEvaluator {
         if (square_sum_at_[i]) {
           const SquareSumRun& fused = square_sums_[square_sum_at_[i] - 1];
           run_square_sum(fused, count);
+          i += fused.length - 1;
+          continue;
+        }
+        if (smooth_trim_at_[i]) {
+          const SmoothTrimRun& fused = smooth_trims_[smooth_trim_at_[i] - 1];
+          run_smooth_trim(fused, count);
           i += fused.length - 1;
           continue;
         }
@@ -349,19 +356,36 @@ class BatchEvaluator {
                count);
   }
 
-  // The tape's fused sums of squares (square_sum.hpp), by first instruction.
-  void find_square_sums() {
+  // The tape's fused runs (square_sum.hpp, smooth_trim.hpp), by first
+  // instruction.
+  void find_fused_runs() {
     square_sums_.clear();
+    smooth_trims_.clear();
     if constexpr (kLaneKernels) {
       const std::size_t n = tape_->code().size();
       square_sum_at_.assign(n, 0);
-      for (std::size_t i = 0; i < n; ++i)
-        if (auto fused = find_square_sum(*tape_, i, is_constant_, constant_value_)) {
-          square_sums_.push_back(*fused);
-          square_sum_at_[i] = static_cast<std::uint32_t>(square_sums_.size());
+      smooth_trim_at_.assign(n, 0);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (auto fused = find_smooth_trim(*tape_, i, is_constant_, constant_value_)) {
+          smooth_trims_.push_back(*fused);
+          smooth_trim_at_[i] = static_cast<std::uint32_t>(smooth_trims_.size());
           i += fused->length - 1;
+        } else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_)) {
+          square_sums_.push_back(*sum);
+          square_sum_at_[i] = static_cast<std::uint32_t>(square_sums_.size());
+          i += sum->length - 1;
         }
+      }
     }
+  }
+
+  void run_smooth_trim(const SmoothTrimRun& fused, std::size_t count) {
+    if constexpr (std::is_same_v<T, double>)
+      smooth_trim_values(fused.trim, component(fused.t), component(fused.h), component(fused.addend),
+                         component(fused.out), count);
+    else
+      smooth_trim_lanes(fused.trim, lanes_of(fused.t), lanes_of(fused.h), lanes_of(fused.addend), lanes_of(fused.out),
+                        count);
   }
 
   void run_square_sum(const SquareSumRun& fused, std::size_t count) {
@@ -404,6 +428,8 @@ class BatchEvaluator {
   // run starting there (0: none).
   std::vector<SquareSumRun> square_sums_;
   std::vector<std::uint32_t> square_sum_at_;
+  std::vector<SmoothTrimRun> smooth_trims_;
+  std::vector<std::uint32_t> smooth_trim_at_;
   std::size_t count_ = 0;
   std::vector<double> data_;
 };

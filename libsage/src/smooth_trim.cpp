@@ -1,0 +1,208 @@
+// Fused smooth trimmings (smooth_trim.hpp). Compiled without errno and
+// trapping math, as tuple_op_lanes.cpp, and for AVX2 and AVX-512 too
+// (vector_clones.hpp: no fused multiply-adds, so the same bits).
+//
+// The arithmetic, step for step, is what BatchEvaluator's kernels do for
+// the instructions of the run (tests/libsage/batch_evaluator_test.cpp
+// compares both with Evaluator bit for bit):
+//   Square      value 0.0 + a0 a0, partials (0.0 + a0 ak) + ak a0
+//   h c         mul_constant: value 0.0 + h0 c, partials (0.0 + h0 0.0) + hk c
+//   u^4         pow_int's powers by squaring: value (u0 u0)(u0 u0), slope
+//               4.0 (u0 (u0 u0)), partials 0.0 + slope uk; u0 = 0 singular
+//   sqrt        value sqrt(a0), slope sqrt(a0) 0.5 / a0, partials slope ak;
+//               a0 <= 0 or NaN singular
+//   Add, Axpby  by component, a p + b q
+// Doubles: t t, h c, (u u)(u u), sums, sqrt, R p + t q.
+
+#include <sage/tape/smooth_trim.hpp>
+
+#include <sage/scalars/tuple.hpp>
+
+#include "vector_clones.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace sage {
+
+std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t first, const std::vector<char>& is_constant,
+                                              const std::vector<double>& constant_value) {
+  const std::vector<Instruction>& code = tape.code();
+  const auto& producers = tape.producers();
+  const auto& readers = tape.readers();
+  const std::size_t n = code.size();
+  if (first >= n || code[first].op != Op::Square) return std::nullopt;
+  auto constant = [&](std::uint32_t r) { return r < is_constant.size() && is_constant[r]; };
+  // Instruction j's arguments are the results of instructions x and y (in
+  // either order), and each intermediate is read by the run alone.
+  auto reads = [&](std::size_t j, std::size_t x, std::size_t y) {
+    const auto& p = producers[j];
+    return (p[0] == x && p[1] == y) || (p[0] == y && p[1] == x);
+  };
+  auto read_once = [&](std::size_t j) { return readers[j] == 1; };
+
+  SmoothTrimRun run;
+  const std::size_t square_t = first;
+  run.t = code[square_t].a;
+  const std::uint32_t t_producer = producers[square_t][0];
+  std::size_t j = first + 1;
+  // Optional h c, then u^4.
+  std::size_t power_argument = Tape::kInput;
+  if (j < n && code[j].op == Op::Mul && (constant(code[j].a) != constant(code[j].b)) && read_once(j)) {
+    const bool c_first = constant(code[j].a);
+    run.h = c_first ? code[j].b : code[j].a;
+    run.trim.has_scale = true;
+    run.trim.scale = constant_value[c_first ? code[j].a : code[j].b];
+    power_argument = j++;
+  }
+  if (j >= n || code[j].op != Op::PowInt || code[j].p0 != 4.0 || !read_once(j)) return std::nullopt;
+  if (run.trim.has_scale) {
+    if (producers[j][0] != power_argument) return std::nullopt;
+  } else {
+    run.h = code[j].a;
+  }
+  const std::size_t power = j++;
+  if (j + 5 >= n || !read_once(square_t)) return std::nullopt;
+  const std::size_t sum = j, root = j + 1, mix = j + 2, square_mix = j + 3, total = j + 4, result = j + 5;
+  if (code[sum].op != Op::Add || !reads(sum, square_t, power) || !read_once(sum)) return std::nullopt;
+  if (code[root].op != Op::Sqrt || producers[root][0] != sum || !read_once(root)) return std::nullopt;
+  if (code[mix].op != Op::Axpby || !reads(mix, root, t_producer) || !read_once(mix)) return std::nullopt;
+  if (code[mix].a == code[mix].b) return std::nullopt;
+  const bool root_first = producers[mix][0] == root;
+  if ((root_first ? code[mix].b : code[mix].a) != run.t) return std::nullopt;
+  run.trim.root_weight = root_first ? code[mix].p0 : code[mix].p1;
+  run.trim.t_weight = root_first ? code[mix].p1 : code[mix].p0;
+  if (code[square_mix].op != Op::Square || producers[square_mix][0] != mix || !read_once(square_mix))
+    return std::nullopt;
+  if (code[total].op != Op::Add || code[total].a == code[total].b || !read_once(total)) return std::nullopt;
+  const bool mix_first = producers[total][0] == square_mix;
+  if (!mix_first && producers[total][1] != square_mix) return std::nullopt;
+  run.addend = mix_first ? code[total].b : code[total].a;
+  if (code[result].op != Op::Sqrt || producers[result][0] != total) return std::nullopt;
+  // t, h and the addend still hold their values where the run reads them:
+  // no instruction of the run before that point wrote their registers.
+  auto intact = [&](std::uint32_t r, std::size_t until) {
+    for (std::size_t k = first; k < until; ++k)
+      if (code[k].out == r) return false;
+    return true;
+  };
+  const std::size_t reads_h = run.trim.has_scale ? power_argument : power;
+  if (!intact(run.t, mix) || !intact(run.h, reads_h) || !intact(run.addend, total)) return std::nullopt;
+  run.out = code[result].out;
+  run.length = result + 1 - first;
+  return run;
+}
+
+namespace {
+
+constexpr std::size_t kChunk = 64;
+
+// The operators, for the lanes where one of them takes another branch.
+template <int N>
+Tuple<N, 1> smooth_trim_operators(const SmoothTrim& trim, const Tuple<N, 1>& t, const Tuple<N, 1>& h,
+                                  const Tuple<N, 1>& addend) {
+  const Tuple<N, 1> u = trim.has_scale ? h * Tuple<N, 1>(trim.scale) : h;
+  const Tuple<N, 1> root = sqrt(square(t) + pow_int(u, 4));
+  return sqrt(addend + square(root * trim.root_weight + t * trim.t_weight));
+}
+
+template <int N, bool Scale>
+[[gnu::always_inline]] inline void smooth_trim(const SmoothTrim& trim, ConstFirstOrderLanes<N> t,
+                                               ConstFirstOrderLanes<N> h, ConstFirstOrderLanes<N> addend,
+                                               FirstOrderLanes<N> out, std::size_t count) {
+  const double c = trim.scale, p = trim.root_weight, q = trim.t_weight;
+  double w[N + 1][kChunk];
+  bool singular[kChunk];
+  for (std::size_t start = 0; start < count; start += kChunk) {
+    const std::size_t n = std::min(kChunk, count - start);
+    std::size_t singular_count = 0;
+#pragma GCC ivdep
+    for (std::size_t l = 0; l < n; ++l) {
+      const std::size_t i = start + l;
+      const double t0 = t.component(0)[i], h0 = h.component(0)[i];
+      const double u0 = Scale ? 0.0 + h0 * c : h0;
+      const double u2 = u0 * u0, slope_u = 4.0 * (u0 * u2);
+      double a[N + 1];
+      a[0] = (0.0 + t0 * t0) + u2 * u2;
+      for (int k = 1; k <= N; ++k) {
+        const double tk = t.component(k)[i], hk = h.component(k)[i];
+        const double uk = Scale ? (0.0 + h0 * 0.0) + hk * c : hk;
+        a[k] = ((0.0 + t0 * tk) + tk * t0) + (0.0 + slope_u * uk);
+      }
+      const bool regular_a = a[0] > 0.0;
+      const double a0 = regular_a ? a[0] : 1.0;  // singular lanes are redone by the operators
+      const double r0 = std::sqrt(a0), slope_r = r0 * 0.5 / a0;
+      double b[N + 1];
+      const double m0 = r0 * p + t0 * q;
+      b[0] = addend.component(0)[i] + (0.0 + m0 * m0);
+      for (int k = 1; k <= N; ++k) {
+        const double mk = (slope_r * a[k]) * p + t.component(k)[i] * q;
+        b[k] = addend.component(k)[i] + ((0.0 + m0 * mk) + mk * m0);
+      }
+      const bool regular_b = b[0] > 0.0;
+      const double b0 = regular_b ? b[0] : 1.0;
+      const double w0 = std::sqrt(b0), slope_w = w0 * 0.5 / b0;
+      w[0][l] = w0;
+      for (int k = 1; k <= N; ++k) w[k][l] = slope_w * b[k];
+      const bool is_singular = u0 == 0.0 || !regular_a || !regular_b;
+      singular[l] = is_singular;
+      singular_count += is_singular;
+    }
+    if (singular_count == 0) {
+      for (int k = 0; k <= N; ++k) std::copy(w[k], w[k] + n, out.component(k) + start);
+      continue;
+    }
+    for (std::size_t l = 0; l < n; ++l) {
+      const std::size_t i = start + l;
+      if (singular[l]) {
+        out.store(i, smooth_trim_operators(trim, t.load(i), h.load(i), addend.load(i)));
+        continue;
+      }
+      for (int k = 0; k <= N; ++k) out.component(k)[i] = w[k][l];
+    }
+  }
+}
+
+template <int N>
+[[gnu::always_inline]] inline void smooth_trim_tuples(const SmoothTrim& trim, ConstFirstOrderLanes<N> t,
+                                                      ConstFirstOrderLanes<N> h, ConstFirstOrderLanes<N> addend,
+                                                      FirstOrderLanes<N> out, std::size_t count) {
+  if (trim.has_scale)
+    smooth_trim<N, true>(trim, t, h, addend, out, count);
+  else
+    smooth_trim<N, false>(trim, t, h, addend, out, count);
+}
+
+template <bool Scale>
+[[gnu::always_inline]] inline void smooth_trim(const SmoothTrim& trim, const double* t, const double* h,
+                                               const double* addend, double* out, std::size_t count) {
+  const double c = trim.scale, p = trim.root_weight, q = trim.t_weight;
+#pragma GCC ivdep
+  for (std::size_t l = 0; l < count; ++l) {
+    const double u = Scale ? h[l] * c : h[l];
+    const double u2 = u * u;
+    const double m = std::sqrt(t[l] * t[l] + u2 * u2) * p + t[l] * q;
+    out[l] = std::sqrt(addend[l] + m * m);
+  }
+}
+
+}  // namespace
+
+SAGE_VECTOR_CLONES void smooth_trim_lanes(const SmoothTrim& trim, ConstFirstOrderLanes<2> t, ConstFirstOrderLanes<2> h,
+                                          ConstFirstOrderLanes<2> addend, FirstOrderLanes<2> out, std::size_t count) {
+  smooth_trim_tuples(trim, t, h, addend, out, count);
+}
+SAGE_VECTOR_CLONES void smooth_trim_lanes(const SmoothTrim& trim, ConstFirstOrderLanes<3> t, ConstFirstOrderLanes<3> h,
+                                          ConstFirstOrderLanes<3> addend, FirstOrderLanes<3> out, std::size_t count) {
+  smooth_trim_tuples(trim, t, h, addend, out, count);
+}
+SAGE_VECTOR_CLONES void smooth_trim_values(const SmoothTrim& trim, const double* t, const double* h,
+                                           const double* addend, double* out, std::size_t count) {
+  if (trim.has_scale)
+    smooth_trim<true>(trim, t, h, addend, out, count);
+  else
+    smooth_trim<false>(trim, t, h, addend, out, count);
+}
+
+}  // namespace sage
