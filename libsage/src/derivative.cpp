@@ -92,7 +92,8 @@ class Differentiator {
       case Op::RAnd:
       case Op::ROr: return d(expansion(f));
       case Op::Patch:
-      case Op::Offset: break;  // tapes only
+      case Op::Offset:
+      case Op::Scale: break;  // tapes only
     }
     throw std::logic_error("derivative: unknown operation");
   }

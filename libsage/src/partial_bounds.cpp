@@ -81,6 +81,7 @@ double bound_of(const Instruction& ins, const Interval& a, const Interval& b, in
     case Op::Sin:
     case Op::Cos: return 1.0;
     case Op::Axpby: return std::abs(k == 0 ? ins.p0 : ins.p1);
+    case Op::Scale: return std::abs(ins.p0);
     case Op::Mul: return mag(other);
     case Op::Square: return 2.0 * mag(a);
     case Op::Exp: return std::exp(a.hi);

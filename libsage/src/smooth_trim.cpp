@@ -49,11 +49,12 @@ std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t firs
   std::size_t j = first + 1;
   // Optional h c, then u^4.
   std::size_t power_argument = Tape::kInput;
-  if (j < n && code[j].op == Op::Mul && (constant(code[j].a) != constant(code[j].b)) && read_once(j)) {
-    const bool c_first = constant(code[j].a);
+  const bool scale = j < n && code[j].op == Op::Scale;
+  if (j < n && (scale || (code[j].op == Op::Mul && constant(code[j].a) != constant(code[j].b))) && read_once(j)) {
+    const bool c_first = !scale && constant(code[j].a);
     run.h = c_first ? code[j].b : code[j].a;
     run.trim.has_scale = true;
-    run.trim.scale = constant_value[c_first ? code[j].a : code[j].b];
+    run.trim.scale = scale ? code[j].p0 : constant_value[c_first ? code[j].a : code[j].b];
     power_argument = j++;
   }
   if (j >= n || code[j].op != Op::PowInt || code[j].p0 != 4.0 || !read_once(j)) return std::nullopt;

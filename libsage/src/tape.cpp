@@ -92,10 +92,15 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
       classifiers_.push_back(e.classifier());
       ins.classifier = e.classifier().get();
     }
+    // u c: u * p0, the same numbers (a mesh field has a constant factor per
+    // face plane, whose registers would outnumber the working ones).
+    const bool scale = e.op() == Op::Mul && e.arg(1).op() == Op::Const && e.arg(0).op() != Op::Const;
     if (offset || offset_first) {
       // u + c, u - c and c + u: u + p0 (the same numbers, as u - c = u + (-c)).
       const double c = e.arg(offset ? 1 : 0).constant_value();
       ins = Instruction{Op::Offset, 0, register_of(e.arg(offset ? 0 : 1)), 0, e.op() == Op::Sub ? -c : c, 0.0};
+    } else if (scale) {
+      ins = Instruction{Op::Scale, 0, register_of(e.arg(0)), 0, e.arg(1).constant_value(), 0.0};
     } else {
       if (arity(e.op()) >= 1) ins.a = register_of(e.arg(0));
       if (arity(e.op()) >= 2) ins.b = register_of(e.arg(1));
@@ -115,7 +120,35 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
     code_.push_back(ins);
   }
   for (const Expr& r : roots) results_.push_back(register_of(r));
+  constants_last();
   link();
+}
+
+void Tape::constants_last() {
+  // Constants took registers as they were first read, between the working
+  // ones. Renumbered after them, the working registers of a tape with many
+  // constants (a mesh field has one per face plane) lie together: the lanes
+  // a batch evaluator streams stay in its caches.
+  std::vector<char> constant(registers_, 0);
+  for (const auto& [r, c] : constants_) constant[r] = 1;
+  std::vector<std::uint32_t> renumbered(registers_);
+  auto next = static_cast<std::uint32_t>(dimension_);
+  for (std::size_t r = 0; r < registers_; ++r)
+    if (r < static_cast<std::size_t>(dimension_))
+      renumbered[r] = static_cast<std::uint32_t>(r);
+    else if (!constant[r])
+      renumbered[r] = next++;
+  for (auto& [r, c] : constants_) {
+    renumbered[r] = next++;
+    r = renumbered[r];
+  }
+  for (Instruction& ins : code_) {
+    const int k = arity(ins.op);
+    if (k >= 1) ins.a = renumbered[ins.a];
+    if (k >= 2) ins.b = renumbered[ins.b];
+    ins.out = renumbered[ins.out];
+  }
+  for (std::uint32_t& r : results_) r = renumbered[r];
 }
 
 void Tape::link() {

@@ -13,9 +13,9 @@
 //    first-order tuples (tuple_op_lanes.hpp), at signed zeros, NaN,
 //    infinities and the operators' singular branches;
 //  - for sums of squares fused into one kernel (square_sum.hpp: balls,
-//    disks) and for smooth trimmings fused likewise (smooth_trim.hpp: every
-//    face of a mesh, every edge of a polygon B-rep), which are found where
-//    they are and nowhere else.
+//    disks), smooth trimmings (smooth_trim.hpp: every face of a mesh, every
+//    edge of a polygon B-rep) and 3D linear forms (linear_form.hpp), which
+//    are found where they are and nowhere else.
 
 #include "test_support.hpp"
 
@@ -23,6 +23,7 @@
 #include <sage/expression/trimming.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/linear_form.hpp>
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 #include <sage/tape/tape_specialization.hpp>
@@ -169,9 +170,10 @@ TEST(BatchEvaluator, TupleArithmeticLanesAtZerosNaNAndInfinity) {
     ops.insert(ins.op);
     if (constants.count(ins.a) || (arity(ins.op) == 2 && constants.count(ins.b))) with_constant.insert(ins.op);
   }
-  for (const Op op : {Op::Mul, Op::Square, Op::Sqrt, Op::Div, Op::DivSafe, Op::PowInt})
+  for (const Op op : {Op::Mul, Op::Scale, Op::Square, Op::Sqrt, Op::Div, Op::DivSafe, Op::PowInt})
     ASSERT_TRUE(ops.count(op)) << op_name(op);
-  for (const Op op : {Op::Mul, Op::Div, Op::DivSafe, Op::Sub})  // a + c is an Offset
+  // a + c is an Offset, a c a Scale; c a stays a product.
+  for (const Op op : {Op::Mul, Op::Div, Op::DivSafe, Op::Sub})
     EXPECT_TRUE(with_constant.count(op)) << op_name(op) << " with a constant argument";
   Points points = random_points(150, 35, -1, 1);
   const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
@@ -215,6 +217,7 @@ auto fused_runs(const Tape& tape, Find find) {
 
 std::vector<SquareSumRun> square_sum_runs(const Tape& tape) { return fused_runs(tape, find_square_sum); }
 std::vector<SmoothTrimRun> smooth_trim_runs(const Tape& tape) { return fused_runs(tape, find_smooth_trim); }
+std::vector<LinearFormRun> linear_form_runs(const Tape& tape) { return fused_runs(tape, find_linear_form); }
 
 // 150 points with `special` among the first chunk and the last lanes.
 void place_special_points(Points& points, const std::vector<std::array<double, 3>>& special) {
@@ -375,6 +378,57 @@ TEST(BatchEvaluator, FusedSmoothTrimsGiveTheInstructionsBits) {
   ASSERT_EQ(smooth_trim_runs(planar).size(), 2u);
   expect_batch_equals_evaluator<double>(planar, points, 64);
   expect_batch_equals_evaluator<Tuple<2, 1>>(planar, points, 64);
+}
+
+TEST(BatchEvaluator, FusedLinearFormsAreFoundAndGiveTheInstructionsBits) {
+  // x p + y q + z k + d is Axpby, Scale, Add and Offset: one run. Without
+  // the constant term it is three; a sum read twice stops the run before
+  // its Offset; the factor may also come from a constant register (c z).
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr plane = x * 0.6 + y * -0.8 + z * 0.25 - 1.5;
+  const Tape single(plane, 3);
+  ASSERT_EQ(single.code().size(), 4u);
+  const auto runs = linear_form_runs(single);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].length, 4u);
+  EXPECT_EQ(runs[0].form.p, 0.6);
+  EXPECT_EQ(runs[0].form.q, -0.8);
+  EXPECT_EQ(runs[0].form.k, 0.25);
+  EXPECT_TRUE(runs[0].form.has_offset);
+  EXPECT_EQ(runs[0].form.d, -1.5);
+  const Expr sum = x * 0.6 + y * -0.8 + z * 0.25;
+  EXPECT_EQ(linear_form_runs(Tape(sum, 3))[0].length, 3u);
+  const auto shared = linear_form_runs(Tape(std::vector<Expr>{sum + 2.0, sum * sum}, 3));
+  ASSERT_EQ(shared.size(), 1u);
+  EXPECT_EQ(shared[0].length, 3u);
+  const Expr constant_first = x * 0.6 + y * -0.8 + 0.25 * z + 1.0;
+  ASSERT_EQ(linear_form_runs(Tape(constant_first, 3)).size(), 1u);
+
+  // Over computed registers (x y, the last root, is compiled first, so
+  // its Scale follows the Axpby).
+  const Expr product = x * y;
+  const Expr computed = sin(x) * 2.0 + square(y) * 0.5 + product * -3.0 + 0.125;
+  const std::vector<Expr> roots{plane,
+                                sum + 2.0,
+                                sum * sum,
+                                constant_first,
+                                computed,
+                                r_and(plane, z * 1.5 + x * 0.5 + y * -0.25, RSystem::r0()),
+                                x * 1e300 + y * 1e300 + z * 1e300,
+                                product};
+  const Tape tape(roots, 3);
+  ASSERT_EQ(linear_form_runs(tape).size(), 6u);
+  Points points = random_points(150, 38, -1.5, 1.5);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  place_special_points(points, {{0.0, 0.0, 0.0},
+                                {-0.0, -0.0, -0.0},
+                                {nan, 1.0, 0.0},
+                                {1.0, -nan, 0.5},
+                                {inf, 2.0, 0.0},
+                                {2.0, -inf, inf},
+                                {1e-170, 1e170, -1e300},
+                                {0.0, -0.0, 6.0}});
+  expect_fused_bits(tape, points);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

@@ -172,6 +172,45 @@ TEST(Tape, AddedConstantsAreOffsetsWithoutRegisters) {
   EXPECT_NEAR(ev.at({qx, qy, 0}), reference, 1e-12 * std::abs(reference));
 }
 
+TEST(Tape, ConstantFactorsAreScalesAndConstantsComeLast) {
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  // u c is a Scale without a register, with the numbers of the product
+  // that reads c from one (c u stays such a product), to second order.
+  const Expr u = sin(x) * y + z;
+  const Tape scaled(u * -1.75, 3), product(Expr(-1.75) * u, 3);
+  EXPECT_EQ(scaled.code().back().op, Op::Scale);
+  EXPECT_TRUE(scaled.constants().empty());
+  EXPECT_EQ(product.code().back().op, Op::Mul);
+  Evaluator<Tuple<3, 2>> a(scaled), b(product);
+  for (const std::array<double, 3>& p : {std::array<double, 3>{0.3, -0.2, 0.7}, {-1.1, 0.5, 0.0}, {2.0, 3.0, -4.0}}) {
+    a.evaluate(p.data());
+    b.evaluate(p.data());
+    for (int c = 0; c < Tuple<3, 2>::size; ++c) EXPECT_EQ(a.result(0).c[c], b.result(0).c[c]) << "coefficient " << c;
+  }
+  // A mesh-sized set of planes n . p + d: no constant registers at all.
+  std::vector<Expr> planes;
+  for (int i = 0; i < 500; ++i) {
+    const double t = 0.01 * i;
+    planes.push_back(x * std::cos(t) + y * std::sin(t) + z * (0.5 - 0.001 * i) - 1.0);
+  }
+  const Tape mesh_like(r_conjunction_n(planes, RSystem::r0()), 3);
+  EXPECT_TRUE(mesh_like.constants().empty());
+  EXPECT_LE(mesh_like.register_count(), 3u + 16u);
+  // Constants read from registers are numbered after every working
+  // register, so the working ones lie together.
+  std::vector<Expr> differences;
+  for (int i = 0; i < 50; ++i) differences.push_back(Expr(0.1 * (i + 1)) - sin(x * (1.0 + 0.01 * i)));
+  const Tape tape(r_conjunction_n(differences, RSystem::r0()), 2);
+  ASSERT_EQ(tape.constants().size(), 50u);
+  std::uint32_t working = 0;
+  for (const Instruction& ins : tape.code()) working = std::max(working, ins.out);
+  for (const auto& [r, c] : tape.constants()) EXPECT_GT(r, working);
+  Evaluator<double> ev(tape);
+  std::vector<double> values;
+  for (int i = 0; i < 50; ++i) values.push_back(0.1 * (i + 1) - std::sin(0.4 * (1.0 + 0.01 * i)));
+  EXPECT_EQ(ev.at({0.4, 0, 0}), r_conjunction_n(values, RSystem::r0()));
+}
+
 TEST(Tape, SameArgumentTwiceAndOutputAliasing) {
   // f * f, f + f, f / f: the output may reuse an argument register.
   const Expr x = Expr::x();

@@ -302,8 +302,9 @@ inline std::vector<OpCase> op_cases(bool chain) {
         }
         break;
       }
-      case Op::Patch: break;   // tapes only: chebyshev_patch_test.cpp
-      case Op::Offset: break;  // tapes only: tape_test.cpp
+      case Op::Patch: break;  // tapes only: chebyshev_patch_test.cpp
+      case Op::Offset:
+      case Op::Scale: break;  // tapes only: tape_test.cpp
     }
   }
   return cases;

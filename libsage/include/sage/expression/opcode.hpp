@@ -38,6 +38,7 @@ namespace sage {
   X(Max,     36, "max",      2)                                                  \
   X(Axpby,   37, "axpby",    2) /* p0 a + p1 b: halfplanes in two instructions */ \
   X(Offset,  38, "offset",   1) /* tapes only: a + p0, a constant added without its register */ \
+  X(Scale,   39, "scale",    1) /* tapes only: a * p0, a constant factor without its register */ \
   X(RAnd,    50, "r_and",    2) /* R-conjunction; p0, p1 = RSystem */            \
   X(ROr,     51, "r_or",     2) /* R-disjunction; p0, p1 = RSystem */          \
   X(Classify, 60, "classify", 0) /* point membership, +1 / 0 / -1 */          \
@@ -95,8 +96,9 @@ constexpr decltype(auto) visit_op(Op op, F&& f) {
 
 /// Operations that appear in tapes only, never in expression graphs: the
 /// far-field approximation (tape_specialization.hpp) puts patches there,
-/// and compiling (tape.hpp) turns additions of constants into offsets.
-constexpr bool tape_only(Op op) { return op == Op::Patch || op == Op::Offset; }
+/// and compiling (tape.hpp) turns additions of constants into offsets and
+/// products by them into scales.
+constexpr bool tape_only(Op op) { return op == Op::Patch || op == Op::Offset || op == Op::Scale; }
 
 /// Every operation, for sweeps in tests and tools.
 constexpr Op kAllOps[] = {

@@ -23,12 +23,14 @@
 #include <sage/scalars/tuple_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/linear_form.hpp>
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 
 #include <array>
 #include <cstddef>
 #include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace sage {
@@ -43,7 +45,14 @@ class BatchEvaluator {
   /// runs thousands of small tapes per thread; clearing megabytes of
   /// registers for each cost more than running them).
   void rebind(const Tape& tape, std::size_t width) {
+    // Grid slabs rebind the same tape again and again: its constants' lanes
+    // (a mesh field has tens of thousands) and fused runs are in place.
+    if (tape_ && tape.serial() == serial_ && width == width_) {
+      tape_ = &tape;
+      return;
+    }
     tape_ = &tape;
+    serial_ = tape.serial();
     width_ = width;
     const std::size_t doubles = tape.register_count() * kComponents * width;
     if (data_.size() < doubles) data_.resize(doubles);
@@ -147,16 +156,13 @@ class BatchEvaluator {
     for (std::size_t i = 0; i < code.size(); ++i) {
       const Instruction& ins = code[i];
       if constexpr (kLaneKernels) {
-        if (square_sum_at_[i]) {
-          const SquareSumRun& fused = square_sums_[square_sum_at_[i] - 1];
-          run_square_sum(fused, count);
-          i += fused.length - 1;
-          continue;
-        }
-        if (smooth_trim_at_[i]) {
-          const SmoothTrimRun& fused = smooth_trims_[smooth_trim_at_[i] - 1];
-          run_smooth_trim(fused, count);
-          i += fused.length - 1;
+        if (fused_at_[i]) {
+          std::visit(
+              [&](const auto& fused) {
+                run_fused(fused, count);
+                i += fused.length - 1;
+              },
+              fused_[fused_at_[i] - 1]);
           continue;
         }
         if (ins.op == Op::Patch && layout) {
@@ -230,6 +236,7 @@ class BatchEvaluator {
         else
           mul_lanes(lanes_of(ins.a), lanes_of(ins.b), lanes_of(ins.out), count);
         return true;
+      case Op::Scale: mul_constant_lanes(lanes_of(ins.a), ins.p0, lanes_of(ins.out), count); return true;
       case Op::Square: square_lanes(lanes_of(ins.a), lanes_of(ins.out), count); return true;
       case Op::Sqrt: sqrt_lanes(lanes_of(ins.a), lanes_of(ins.out), count); return true;
       case Op::Div:
@@ -268,6 +275,7 @@ class BatchEvaluator {
       case Op::Neg: return run(ArrayOp::Scale, -1.0);  // a * -1.0
       case Op::Axpby: return run(ArrayOp::Axpby, ins.p0, ins.p1);
       case Op::Offset: return run(ArrayOp::Offset, ins.p0);
+      case Op::Scale: return run(ArrayOp::Scale, ins.p0);
       case Op::Mul:
         if (b_constant) return run(ArrayOp::Scale, constant_value_[ins.b]);
         if (a_constant) {
@@ -356,30 +364,39 @@ class BatchEvaluator {
                count);
   }
 
-  // The tape's fused runs (square_sum.hpp, smooth_trim.hpp), by first
-  // instruction.
+  // The tape's fused runs (square_sum.hpp, smooth_trim.hpp,
+  // linear_form.hpp), by first instruction.
   void find_fused_runs() {
-    square_sums_.clear();
-    smooth_trims_.clear();
+    fused_.clear();
     if constexpr (kLaneKernels) {
       const std::size_t n = tape_->code().size();
-      square_sum_at_.assign(n, 0);
-      smooth_trim_at_.assign(n, 0);
+      fused_at_.assign(n, 0);
+      auto found = [&](std::size_t& i, const auto& run) {
+        fused_.push_back(run);
+        fused_at_[i] = static_cast<std::uint32_t>(fused_.size());
+        i += run.length - 1;
+      };
       for (std::size_t i = 0; i < n; ++i) {
-        if (auto fused = find_smooth_trim(*tape_, i, is_constant_, constant_value_)) {
-          smooth_trims_.push_back(*fused);
-          smooth_trim_at_[i] = static_cast<std::uint32_t>(smooth_trims_.size());
-          i += fused->length - 1;
-        } else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_)) {
-          square_sums_.push_back(*sum);
-          square_sum_at_[i] = static_cast<std::uint32_t>(square_sums_.size());
-          i += sum->length - 1;
-        }
+        if (auto trim = find_smooth_trim(*tape_, i, is_constant_, constant_value_))
+          found(i, *trim);
+        else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_))
+          found(i, *sum);
+        else if (kComponents == 1 || kComponents == 4)
+          if (auto form = find_linear_form(*tape_, i, is_constant_, constant_value_)) found(i, *form);
       }
     }
   }
 
-  void run_smooth_trim(const SmoothTrimRun& fused, std::size_t count) {
+  void run_fused(const LinearFormRun& fused, std::size_t count) {
+    if constexpr (std::is_same_v<T, double>)
+      linear_form_values(fused.form, component(fused.a), component(fused.b), component(fused.c), component(fused.out),
+                         count);
+    else if constexpr (kComponents == 4)
+      linear_form_lanes(fused.form, lanes_of(fused.a), lanes_of(fused.b), lanes_of(fused.c), lanes_of(fused.out),
+                        count);
+  }
+
+  void run_fused(const SmoothTrimRun& fused, std::size_t count) {
     if constexpr (std::is_same_v<T, double>)
       smooth_trim_values(fused.trim, component(fused.t), component(fused.h), component(fused.addend),
                          component(fused.out), count);
@@ -388,7 +405,7 @@ class BatchEvaluator {
                         count);
   }
 
-  void run_square_sum(const SquareSumRun& fused, std::size_t count) {
+  void run_fused(const SquareSumRun& fused, std::size_t count) {
     const auto terms = static_cast<std::size_t>(fused.sum.terms);
     if constexpr (std::is_same_v<T, double>) {
       std::array<const double*, 3> arguments{};
@@ -418,18 +435,17 @@ class BatchEvaluator {
     }
   }
 
-  const Tape* tape_;
-  std::size_t width_;
+  const Tape* tape_ = nullptr;
+  std::uint64_t serial_ = 0;
+  std::size_t width_ = 0;
   // Which registers hold constants, and their values: kernels read those
   // as one number rather than as lanes.
   std::vector<char> is_constant_;
   std::vector<double> constant_value_;
   // Fused runs of instructions, and by instruction 1 + the index of the
   // run starting there (0: none).
-  std::vector<SquareSumRun> square_sums_;
-  std::vector<std::uint32_t> square_sum_at_;
-  std::vector<SmoothTrimRun> smooth_trims_;
-  std::vector<std::uint32_t> smooth_trim_at_;
+  std::vector<std::variant<SquareSumRun, SmoothTrimRun, LinearFormRun>> fused_;
+  std::vector<std::uint32_t> fused_at_;
   std::size_t count_ = 0;
   std::vector<double> data_;
 };

@@ -97,6 +97,8 @@ SAGE_ALWAYS_INLINE T apply_op(const Instruction& ins, const T& a, const T& b) {
     return a * ins.p0 + b * ins.p1;
   else if constexpr (op == Op::Offset)
     return a + T(ins.p0);  // as Add with the constant's register: the same numbers
+  else if constexpr (op == Op::Scale)
+    return a * T(ins.p0);  // as Mul with the constant's register: the same numbers
   else if constexpr (op == Op::RAnd || op == Op::ROr) {
     const RSystem s{static_cast<RKind>(static_cast<int>(ins.p0)), ins.p1};
     // min/max, R0 and Rp nodes fill large CSG trees: spare points the general

@@ -2,7 +2,8 @@
 // The smooth trimming of a B-rep piece, a tape run fused into one kernel.
 //
 // trim_smooth(h, t) (trimming.hpp) compiles to nine instructions:
-//   St = t^2, P = (h c)^4 (c = 1: no product), A = St + P, R = sqrt(A),
+//   St = t^2, P = (h c)^4 (h c a Scale, or a product with a constant
+//   register; c = 1: no product), A = St + P, R = sqrt(A),
 //   M = R p + t q (p = 1/2, q = -1/2), SM = M^2, B = S + SM, W = sqrt(B)
 // with S = h^2 computed earlier. Every face of a mesh and every edge of a
 // polygon B-rep has one, and run one by one they made a pass over memory

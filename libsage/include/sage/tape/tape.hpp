@@ -14,6 +14,7 @@
 #include <sage/expression/expression.hpp>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -59,11 +60,16 @@ class Tape {
   const std::vector<std::uint32_t>& readers() const { return readers_; }
   /// The instruction computing each root (kInput: a variable or constant).
   const std::vector<std::uint32_t>& result_producers() const { return result_producers_; }
+  /// Names this tape's code among all tapes of the run: copies share it,
+  /// no two different tapes do (evaluators rebound to the same tape keep
+  /// what they derived from it).
+  std::uint64_t serial() const { return serial_; }
 
  private:
   friend class TapeSpecializer;  // builds tapes specialized to a box
   Tape() = default;
-  void link();  // fills producers_, readers_ and result_producers_ from the code
+  void link();            // fills producers_, readers_ and result_producers_ from the code
+  void constants_last();  // renumbers the registers: variables, working ones, constants
 
   int dimension_ = 0;
   std::size_t registers_ = 0;
@@ -75,6 +81,12 @@ class Tape {
   std::vector<std::uint32_t> result_producers_;
   std::vector<std::shared_ptr<const PointClassifier>> classifiers_;  // keeps them alive
   std::vector<std::shared_ptr<const ChebyshevPatch>> patches_;       // likewise
+  std::uint64_t serial_ = next_serial();
+
+  static std::uint64_t next_serial() {
+    static std::atomic<std::uint64_t> counter{0};
+    return ++counter;
+  }
 };
 
 }  // namespace sage
