@@ -381,11 +381,14 @@ class BatchEvaluator {
           found(i, *trim);
         else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_))
           found(i, *sum);
-        else if (kComponents == 1 || kComponents == 4)
-          if (auto form = find_linear_form(*tape_, i, is_constant_, constant_value_)) found(i, *form);
+        else if (auto form = kLinearForms ? find_linear_form(*tape_, i, is_constant_, constant_value_) : std::nullopt)
+          found(i, *form);
       }
     }
   }
+
+  // Linear forms are found in 3D tapes only: doubles, or tuples of x, y, z.
+  static constexpr bool kLinearForms = kComponents == 1 || kComponents == 4;
 
   void run_fused(const LinearFormRun& fused, std::size_t count) {
     if constexpr (std::is_same_v<T, double>)
