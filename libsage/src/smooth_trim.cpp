@@ -6,7 +6,7 @@
 // the instructions of the run (tests/libsage/batch_evaluator_test.cpp
 // compares both with Evaluator bit for bit):
 //   Square      value 0.0 + a0 a0, partials (0.0 + a0 ak) + ak a0
-//   h c         mul_constant: value 0.0 + h0 c, partials (0.0 + h0 0.0) + hk c
+//   h c (Scale) mul_constant: value 0.0 + h0 c, partials (0.0 + h0 0.0) + hk c
 //   u^4         pow_int's powers by squaring: value (u0 u0)(u0 u0), slope
 //               4.0 (u0 (u0 u0)), partials 0.0 + slope uk; u0 = 0 singular
 //   sqrt        value sqrt(a0), slope sqrt(a0) 0.5 / a0, partials slope ak;
@@ -26,14 +26,12 @@
 
 namespace sage {
 
-std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t first, const std::vector<char>& is_constant,
-                                              const std::vector<double>& constant_value) {
+std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t first) {
   const std::vector<Instruction>& code = tape.code();
   const auto& producers = tape.producers();
   const auto& readers = tape.readers();
   const std::size_t n = code.size();
   if (first >= n || code[first].op != Op::Square) return std::nullopt;
-  auto constant = [&](std::uint32_t r) { return r < is_constant.size() && is_constant[r]; };
   // Instruction j's arguments are the results of instructions x and y (in
   // either order), and each intermediate is read by the run alone.
   auto reads = [&](std::size_t j, std::size_t x, std::size_t y) {
@@ -49,12 +47,10 @@ std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t firs
   std::size_t j = first + 1;
   // Optional h c, then u^4.
   std::size_t power_argument = Tape::kInput;
-  const bool scale = j < n && code[j].op == Op::Scale;
-  if (j < n && (scale || (code[j].op == Op::Mul && constant(code[j].a) != constant(code[j].b))) && read_once(j)) {
-    const bool c_first = !scale && constant(code[j].a);
-    run.h = c_first ? code[j].b : code[j].a;
+  if (j < n && code[j].op == Op::Scale && read_once(j)) {
+    run.h = code[j].a;
     run.trim.has_scale = true;
-    run.trim.scale = scale ? code[j].p0 : constant_value[c_first ? code[j].a : code[j].b];
+    run.trim.scale = code[j].p0;
     power_argument = j++;
   }
   if (j >= n || code[j].op != Op::PowInt || code[j].p0 != 4.0 || !read_once(j)) return std::nullopt;

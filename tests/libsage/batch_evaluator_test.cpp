@@ -216,7 +216,10 @@ auto fused_runs(const Tape& tape, Find find) {
 }
 
 std::vector<SquareSumRun> square_sum_runs(const Tape& tape) { return fused_runs(tape, find_square_sum); }
-std::vector<SmoothTrimRun> smooth_trim_runs(const Tape& tape) { return fused_runs(tape, find_smooth_trim); }
+std::vector<SmoothTrimRun> smooth_trim_runs(const Tape& tape) {
+  return fused_runs(
+      tape, [](const Tape& t, std::size_t first, const auto&, const auto&) { return find_smooth_trim(t, first); });
+}
 std::vector<LinearFormRun> linear_form_runs(const Tape& tape) { return fused_runs(tape, find_linear_form); }
 
 // 150 points with `special` among the first chunk and the last lanes.

@@ -377,7 +377,7 @@ class BatchEvaluator {
         i += run.length - 1;
       };
       for (std::size_t i = 0; i < n; ++i) {
-        if (auto trim = find_smooth_trim(*tape_, i, is_constant_, constant_value_))
+        if (auto trim = find_smooth_trim(*tape_, i))
           found(i, *trim);
         else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_))
           found(i, *sum);

@@ -2,8 +2,7 @@
 // The smooth trimming of a B-rep piece, a tape run fused into one kernel.
 //
 // trim_smooth(h, t) (trimming.hpp) compiles to nine instructions:
-//   St = t^2, P = (h c)^4 (h c a Scale, or a product with a constant
-//   register; c = 1: no product), A = St + P, R = sqrt(A),
+//   St = t^2, P = (h c)^4 (h c a Scale; c = 1: none), A = St + P, R = sqrt(A),
 //   M = R p + t q (p = 1/2, q = -1/2), SM = M^2, B = S + SM, W = sqrt(B)
 // with S = h^2 computed earlier. Every face of a mesh and every edge of a
 // polygon B-rep has one, and run one by one they made a pass over memory
@@ -25,7 +24,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
-#include <vector>
 
 namespace sage {
 
@@ -48,10 +46,7 @@ struct SmoothTrimRun {
 };
 
 /// The run starting at instruction `first` (its Square of t), if any.
-/// `is_constant` and `constant_value` by register, as BatchEvaluator keeps
-/// them.
-std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t first, const std::vector<char>& is_constant,
-                                              const std::vector<double>& constant_value);
+std::optional<SmoothTrimRun> find_smooth_trim(const Tape& tape, std::size_t first);
 
 /// out[l] = the run's result at lane l, l < count. out may be any of the
 /// arguments (each lane reads before it writes).
