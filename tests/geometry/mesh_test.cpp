@@ -9,6 +9,7 @@
 
 #include <sage/expression/primitives.hpp>
 #include <sage/geometry/mesh_model.hpp>
+#include <sage/sampling/field_samples.hpp>
 #include <sage/tape/evaluator.hpp>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
@@ -261,6 +262,33 @@ TEST(MeshReal, JointSignsAndGradient) { check_real_mesh("joint.off", count(5000)
 TEST(MeshReal, PinionSignsAndGradient) { check_real_mesh("pinion.off", count(2000), grad_count(60)); }
 TEST(MeshReal, ElephantSignsAndGradient) { check_real_mesh("elephant.off", count(500), grad_count(20)); }
 TEST(MeshReal, OcctStlSignsAndGradient) { check_real_mesh("occt_sh1.stl", count(1000), grad_count(40)); }
+
+// Grid sampling runs a mesh field's faces through the batch kernels (planes,
+// smooth trimmings and R0 fused, constants as Scales): on a real mesh, with
+// points inside, outside and near its edges and corners, every value and
+// gradient is the point evaluator's, bit for bit.
+TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
+  LoadOptions options;
+  options.method = "brep";
+  const Model m = load_mesh(shared_mesh("joint.off"), options);
+  ASSERT_TRUE(m.bounds);
+  const sage::Tape tape(m.field, 3);
+  sage::Grid g;
+  g.dimension = 3;
+  for (int a = 0; a < 3; ++a) {
+    const double margin = 0.1 * (m.bounds->max[a] - m.bounds->min[a]);
+    g.lo[a] = m.bounds->min[a] - margin;
+    g.hi[a] = m.bounds->max[a] + margin;
+  }
+  g.points = {11, 9, 7};
+  const sage::FieldSamples s = sage::sample_field(tape, g, 1);
+  sage::Evaluator<sage::Tuple<3, 1>> ev(tape);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const auto t = ev.at(g.point(i));
+    ASSERT_EQ(s.omega[i], t.value()) << "point " << i;
+    for (int v = 0; v < 3; ++v) ASSERT_EQ(s.gradient[3 * i + static_cast<std::size_t>(v)], t.gradient()[v]) << i;
+  }
+}
 
 TEST(MeshReal, NotesReportTopology) {
   const Model m = load_mesh(shared_mesh("joint.off"), {});
