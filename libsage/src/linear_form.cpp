@@ -2,7 +2,7 @@
 // math, as tuple_op_lanes.cpp, and for AVX2 and AVX-512 too
 // (vector_clones.hpp: no fused multiply-adds, so the same bits).
 //
-// The instructions' arithmetic, step for step:
+// The instructions' arithmetic, step for step (lane_steps.hpp):
 //   Axpby   by component, a p + b q
 //   c k     mul_constant: value 0.0 + c0 k, partials (0.0 + c0 0.0) + cj k
 //   Add     by component
@@ -11,6 +11,7 @@
 
 #include <sage/tape/linear_form.hpp>
 
+#include "lane_steps.hpp"
 #include "vector_clones.hpp"
 
 namespace sage {
@@ -50,11 +51,12 @@ std::optional<LinearFormRun> find_linear_form(const Tape& tape, std::size_t firs
 
 namespace {
 
-template <bool Offset>
-[[gnu::always_inline]] inline void linear_form(const LinearForm& f, ConstFirstOrderLanes<3> a,
+// The form is copied: stores to `out` cannot then change it, and the
+// compiler keeps its numbers in registers.
+[[gnu::always_inline]] inline void linear_form(const LinearForm form, ConstFirstOrderLanes<3> a,
                                                ConstFirstOrderLanes<3> b, ConstFirstOrderLanes<3> c,
                                                FirstOrderLanes<3> out, std::size_t count) {
-  const double p = f.p, q = f.q, k = f.k, d = f.d;
+  const LinearForm& f = form;
   const double *a0 = a.component(0), *b0 = b.component(0), *c0 = c.component(0);
   const double* aj[3] = {a.component(1), a.component(2), a.component(3)};
   const double* bj[3] = {b.component(1), b.component(2), b.component(3)};
@@ -62,26 +64,10 @@ template <bool Offset>
   double* o[4] = {out.component(0), out.component(1), out.component(2), out.component(3)};
 #pragma GCC ivdep
   for (std::size_t l = 0; l < count; ++l) {
-    const double value = (a0[l] * p + b0[l] * q) + (0.0 + c0[l] * k);
-    const double zero = 0.0 + c0[l] * 0.0;
     double partial[3];
-    for (int j = 0; j < 3; ++j) {
-      partial[j] = (aj[j][l] * p + bj[j][l] * q) + (zero + cj[j][l] * k);
-      if constexpr (Offset) partial[j] = partial[j] + 0.0;
-    }
-    o[0][l] = Offset ? value + d : value;
+    for (int j = 0; j < 3; ++j) partial[j] = lane::linear_form_partial(f, c0[l], aj[j][l], bj[j][l], cj[j][l]);
+    o[0][l] = lane::linear_form_value<true>(f, a0[l], b0[l], c0[l]);
     for (int j = 0; j < 3; ++j) o[j + 1][l] = partial[j];
-  }
-}
-
-template <bool Offset>
-[[gnu::always_inline]] inline void linear_form(const LinearForm& f, const double* a, const double* b, const double* c,
-                                               double* out, std::size_t count) {
-  const double p = f.p, q = f.q, k = f.k, d = f.d;
-#pragma GCC ivdep
-  for (std::size_t l = 0; l < count; ++l) {
-    const double value = (a[l] * p + b[l] * q) + c[l] * k;
-    out[l] = Offset ? value + d : value;
   }
 }
 
@@ -89,17 +75,13 @@ template <bool Offset>
 
 SAGE_VECTOR_CLONES void linear_form_lanes(const LinearForm& form, ConstFirstOrderLanes<3> a, ConstFirstOrderLanes<3> b,
                                           ConstFirstOrderLanes<3> c, FirstOrderLanes<3> out, std::size_t count) {
-  if (form.has_offset)
-    linear_form<true>(form, a, b, c, out, count);
-  else
-    linear_form<false>(form, a, b, c, out, count);
+  linear_form(form, a, b, c, out, count);
 }
 SAGE_VECTOR_CLONES void linear_form_values(const LinearForm& form, const double* a, const double* b, const double* c,
                                            double* out, std::size_t count) {
-  if (form.has_offset)
-    linear_form<true>(form, a, b, c, out, count);
-  else
-    linear_form<false>(form, a, b, c, out, count);
+  const LinearForm f = form;
+#pragma GCC ivdep
+  for (std::size_t l = 0; l < count; ++l) out[l] = lane::linear_form_value<false>(f, a[l], b[l], c[l]);
 }
 
 }  // namespace sage

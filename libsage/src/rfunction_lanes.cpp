@@ -16,6 +16,7 @@
 
 #include <sage/scalars/rfunction.hpp>
 
+#include "lane_steps.hpp"
 #include "vector_clones.hpp"
 
 #include <algorithm>
@@ -70,16 +71,12 @@ template <int N>
   }
 #pragma GCC ivdep
   for (std::size_t l = 0; l < n; ++l) {
-    const double a0 = xs[0][l], b0 = ys[0][l];
-    const double r2 = a0 * a0 + b0 * b0;
-    const double root = std::sqrt(r2);
-    const double slope = sign * root * 0.5 / r2;
-    double o[N + 1];
-    for (int k = 1; k <= N; ++k) {
-      const double a = xs[k][l], b = ys[k][l];
-      o[k] = a + b + slope * (2.0 * a0 * a + 2.0 * b0 * b);
+    double a[N + 1], b[N + 1], o[N + 1];
+    for (int k = 0; k <= N; ++k) {
+      a[k] = xs[k][l];
+      b[k] = ys[k][l];
     }
-    o[0] = a0 + b0 + sign * root;
+    lane::r0<N>(a, b, sign, o);
     for (int k = 0; k <= N; ++k) os[k][l] = o[k];
   }
 }
@@ -214,8 +211,7 @@ SAGE_VECTOR_CLONES void r0_combine_lanes(const double* x, const double* y, doubl
                                          double sign) {
   // rfunction.hpp's r0_combine<double>, operation for operation.
   for (std::size_t l = 0; l < count; ++l) {
-    const double r2 = x[l] * x[l] + y[l] * y[l];
-    out[l] = x[l] + y[l] + sign * std::sqrt(r2 > 0 ? r2 : 0.0);
+    out[l] = lane::r0(x[l], y[l], sign);
   }
 }
 SAGE_VECTOR_CLONES void r0_combine_lanes(ConstTupleLanes<Tuple<2, 1>> x, ConstTupleLanes<Tuple<2, 1>> y,

@@ -2,22 +2,16 @@
 // trapping math, as tuple_op_lanes.cpp, and for AVX2 and AVX-512 too
 // (vector_clones.hpp: no fused multiply-adds, so the same bits).
 //
-// The arithmetic, step for step, is what BatchEvaluator's kernels do for
-// the instructions of the run (tests/libsage/batch_evaluator_test.cpp
-// compares both with Evaluator bit for bit):
-//   Square      value 0.0 + a0 a0, partials (0.0 + a0 ak) + ak a0
-//   h c (Scale) mul_constant: value 0.0 + h0 c, partials (0.0 + h0 0.0) + hk c
-//   u^4         pow_int's powers by squaring: value (u0 u0)(u0 u0), slope
-//               4.0 (u0 (u0 u0)), partials 0.0 + slope uk; u0 = 0 singular
-//   sqrt        value sqrt(a0), slope sqrt(a0) 0.5 / a0, partials slope ak;
-//               a0 <= 0 or NaN singular
-//   Add, Axpby  by component, a p + b q
-// Doubles: t t, h c, (u u)(u u), sums, sqrt, R p + t q.
+// The arithmetic is lane_steps.hpp's, step for step what BatchEvaluator's
+// kernels do for the instructions of the run
+// (tests/libsage/batch_evaluator_test.cpp compares both with Evaluator bit
+// for bit).
 
 #include <sage/tape/smooth_trim.hpp>
 
 #include <sage/scalars/tuple.hpp>
 
+#include "lane_steps.hpp"
 #include "vector_clones.hpp"
 
 #include <algorithm>
@@ -95,20 +89,10 @@ namespace {
 
 constexpr std::size_t kChunk = 64;
 
-// The operators, for the lanes where one of them takes another branch.
-template <int N>
-Tuple<N, 1> smooth_trim_operators(const SmoothTrim& trim, const Tuple<N, 1>& t, const Tuple<N, 1>& h,
-                                  const Tuple<N, 1>& addend) {
-  const Tuple<N, 1> u = trim.has_scale ? h * Tuple<N, 1>(trim.scale) : h;
-  const Tuple<N, 1> root = sqrt(square(t) + pow_int(u, 4));
-  return sqrt(addend + square(root * trim.root_weight + t * trim.t_weight));
-}
-
 template <int N, bool Scale>
 [[gnu::always_inline]] inline void smooth_trim(const SmoothTrim& trim, ConstFirstOrderLanes<N> t,
                                                ConstFirstOrderLanes<N> h, ConstFirstOrderLanes<N> addend,
                                                FirstOrderLanes<N> out, std::size_t count) {
-  const double c = trim.scale, p = trim.root_weight, q = trim.t_weight;
   double w[N + 1][kChunk];
   bool singular[kChunk];
   for (std::size_t start = 0; start < count; start += kChunk) {
@@ -117,32 +101,14 @@ template <int N, bool Scale>
 #pragma GCC ivdep
     for (std::size_t l = 0; l < n; ++l) {
       const std::size_t i = start + l;
-      const double t0 = t.component(0)[i], h0 = h.component(0)[i];
-      const double u0 = Scale ? 0.0 + h0 * c : h0;
-      const double u2 = u0 * u0, slope_u = 4.0 * (u0 * u2);
-      double a[N + 1];
-      a[0] = (0.0 + t0 * t0) + u2 * u2;
-      for (int k = 1; k <= N; ++k) {
-        const double tk = t.component(k)[i], hk = h.component(k)[i];
-        const double uk = Scale ? (0.0 + h0 * 0.0) + hk * c : hk;
-        a[k] = ((0.0 + t0 * tk) + tk * t0) + (0.0 + slope_u * uk);
+      double tl[N + 1], hl[N + 1], sl[N + 1], wl[N + 1];
+      for (int k = 0; k <= N; ++k) {
+        tl[k] = t.component(k)[i];
+        hl[k] = h.component(k)[i];
+        sl[k] = addend.component(k)[i];
       }
-      const bool regular_a = a[0] > 0.0;
-      const double a0 = regular_a ? a[0] : 1.0;  // singular lanes are redone by the operators
-      const double r0 = std::sqrt(a0), slope_r = r0 * 0.5 / a0;
-      double b[N + 1];
-      const double m0 = r0 * p + t0 * q;
-      b[0] = addend.component(0)[i] + (0.0 + m0 * m0);
-      for (int k = 1; k <= N; ++k) {
-        const double mk = (slope_r * a[k]) * p + t.component(k)[i] * q;
-        b[k] = addend.component(k)[i] + ((0.0 + m0 * mk) + mk * m0);
-      }
-      const bool regular_b = b[0] > 0.0;
-      const double b0 = regular_b ? b[0] : 1.0;
-      const double w0 = std::sqrt(b0), slope_w = w0 * 0.5 / b0;
-      w[0][l] = w0;
-      for (int k = 1; k <= N; ++k) w[k][l] = slope_w * b[k];
-      const bool is_singular = u0 == 0.0 || !regular_a || !regular_b;
+      const bool is_singular = !lane::smooth_trim<N, Scale>(trim, tl, hl, sl, wl);
+      for (int k = 0; k <= N; ++k) w[k][l] = wl[k];
       singular[l] = is_singular;
       singular_count += is_singular;
     }
@@ -153,7 +119,7 @@ template <int N, bool Scale>
     for (std::size_t l = 0; l < n; ++l) {
       const std::size_t i = start + l;
       if (singular[l]) {
-        out.store(i, smooth_trim_operators(trim, t.load(i), h.load(i), addend.load(i)));
+        out.store(i, lane::smooth_trim_operators(trim, t.load(i), h.load(i), addend.load(i)));
         continue;
       }
       for (int k = 0; k <= N; ++k) out.component(k)[i] = w[k][l];
@@ -174,14 +140,8 @@ template <int N>
 template <bool Scale>
 [[gnu::always_inline]] inline void smooth_trim(const SmoothTrim& trim, const double* t, const double* h,
                                                const double* addend, double* out, std::size_t count) {
-  const double c = trim.scale, p = trim.root_weight, q = trim.t_weight;
 #pragma GCC ivdep
-  for (std::size_t l = 0; l < count; ++l) {
-    const double u = Scale ? h[l] * c : h[l];
-    const double u2 = u * u;
-    const double m = std::sqrt(t[l] * t[l] + u2 * u2) * p + t[l] * q;
-    out[l] = std::sqrt(addend[l] + m * m);
-  }
+  for (std::size_t l = 0; l < count; ++l) out[l] = lane::smooth_trim<Scale>(trim, t[l], h[l], addend[l]);
 }
 
 }  // namespace

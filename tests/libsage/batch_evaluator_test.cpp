@@ -14,8 +14,9 @@
 //    infinities and the operators' singular branches;
 //  - for sums of squares fused into one kernel (square_sum.hpp: balls,
 //    disks), smooth trimmings (smooth_trim.hpp: every face of a mesh, every
-//    edge of a polygon B-rep) and 3D linear forms (linear_form.hpp), which
-//    are found where they are and nowhere else.
+//    edge of a polygon B-rep), 3D linear forms (linear_form.hpp) and whole
+//    mesh faces (trimmed_face.hpp), which are found where they are and
+//    nowhere else.
 
 #include "test_support.hpp"
 
@@ -27,6 +28,7 @@
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 #include <sage/tape/tape_specialization.hpp>
+#include <sage/tape/trimmed_face.hpp>
 
 #include <gtest/gtest.h>
 
@@ -221,6 +223,7 @@ std::vector<SmoothTrimRun> smooth_trim_runs(const Tape& tape) {
       tape, [](const Tape& t, std::size_t first, const auto&, const auto&) { return find_smooth_trim(t, first); });
 }
 std::vector<LinearFormRun> linear_form_runs(const Tape& tape) { return fused_runs(tape, find_linear_form); }
+std::vector<TrimmedFaceRun> trimmed_face_runs(const Tape& tape) { return fused_runs(tape, find_trimmed_face); }
 
 // 150 points with `special` among the first chunk and the last lanes.
 void place_special_points(Points& points, const std::vector<std::array<double, 3>>& special) {
@@ -228,6 +231,19 @@ void place_special_points(Points& points, const std::vector<std::array<double, 3
     points[7 * k] = special[k];
     points[149 - k] = special[k];
   }
+}
+
+// `special`, then signed zeros, NaN, infinities, overflow and underflow.
+std::vector<std::array<double, 3>> with_extremes(std::vector<std::array<double, 3>> special) {
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  for (const auto& p : std::vector<std::array<double, 3>>{{-0.0, -0.0, -0.0},
+                                                          {nan, 1.0, 0.0},
+                                                          {1.0, -nan, 0.5},
+                                                          {inf, 2.0, 0.0},
+                                                          {2.0, -inf, inf},
+                                                          {1e-170, 1e170, -1e300}})
+    special.push_back(p);
+  return special;
 }
 
 // A 3D tape with fused runs, in doubles and tuples, full and partial batches.
@@ -422,15 +438,133 @@ TEST(BatchEvaluator, FusedLinearFormsAreFoundAndGiveTheInstructionsBits) {
   const Tape tape(roots, 3);
   ASSERT_EQ(linear_form_runs(tape).size(), 6u);
   Points points = random_points(150, 38, -1.5, 1.5);
-  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
-  place_special_points(points, {{0.0, 0.0, 0.0},
-                                {-0.0, -0.0, -0.0},
-                                {nan, 1.0, 0.0},
-                                {1.0, -nan, 0.5},
-                                {inf, 2.0, 0.0},
-                                {2.0, -inf, inf},
-                                {1e-170, 1e170, -1e300},
-                                {0.0, -0.0, 6.0}});
+  place_special_points(points, with_extremes({{0.0, 0.0, 0.0}, {0.0, -0.0, 6.0}}));
+  expect_fused_bits(tape, points);
+}
+
+// A mesh face as mesh_field.cpp builds it: its plane h (> 0 inside), the
+// three side planes through its edges, perpendicular to it, their R0
+// conjunction t, and the smooth trimming of h by t. `reversed` writes t as
+// s2 AND (s0 AND s1).
+Expr mesh_face(const std::array<std::array<double, 3>, 3>& v, bool reversed = false) {
+  using V = std::array<double, 3>;
+  auto sub = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
+  auto cross = [](const V& a, const V& b) {
+    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  auto unit = [](const V& a) {
+    const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return V{a[0] / n, a[1] / n, a[2] / n};
+  };
+  auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  auto linear = [&](const V& g, double c) { return x * g[0] + y * g[1] + z * g[2] + c; };
+  const V n = unit(cross(sub(v[1], v[0]), sub(v[2], v[0])));
+  const Expr h = linear({-n[0], -n[1], -n[2]}, dot(n, v[0]));
+  std::vector<Expr> sides;
+  for (std::size_t j = 0; j < 3; ++j) {
+    const V m = unit(cross(n, sub(v[(j + 1) % 3], v[j])));
+    sides.push_back(linear(m, -dot(m, v[j])));
+  }
+  const RSystem r0 = RSystem::r0();
+  const Expr t = reversed ? r_and(sides[2], r_and(sides[0], sides[1], r0), r0) : r_conjunction_n(sides, r0);
+  return trim_smooth(h, t);
+}
+
+const std::array<std::array<double, 3>, 3> kTriangle{{{0.125, -0.25, 0.5}, {1.0, 0.0, 0.25}, {0.25, 1.0, -0.5}}};
+// In the plane z = 0.5, with a vertex at x = y = 0: planes of one and two
+// terms, some without a constant.
+const std::array<std::array<double, 3>, 3> kFlatTriangle{{{0.0, 0.0, 0.5}, {1.0, -0.5, 0.5}, {-0.5, 1.0, 0.5}}};
+
+TEST(BatchEvaluator, FusedTrimmedFacesAreTheirInstructionsFound) {
+  // A face in general position is 27 instructions: four planes of three
+  // terms (4 each), h^2, two R0 and the trimming (8). Glued by R0, each
+  // face is one run and the glue is not.
+  const Expr face = mesh_face(kTriangle);
+  const Tape single(face, 3);
+  ASSERT_EQ(single.code().size(), 27u);
+  const auto runs = trimmed_face_runs(single);
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].length, 27u);
+  EXPECT_EQ(runs[0].out, single.results()[0]);
+  EXPECT_TRUE(runs[0].face.trimming_first);
+  EXPECT_EQ(runs[0].face.first_sign, -1.0);
+  // The planes' partials at a finite point are their coefficients.
+  for (const Plane& plane : runs[0].face.planes) {
+    ASSERT_EQ(plane.kind, Plane::Kind::ThreeTerms);
+    std::array<double, 3> gradient{};
+    const std::array<double, 3> coefficient{plane.form.p, plane.form.q, plane.form.k};
+    for (std::size_t a = 0; a < 3; ++a) gradient[static_cast<std::size_t>(plane.variables[a])] = coefficient[a];
+    EXPECT_EQ(plane.partials, gradient);
+  }
+  // A face in z = 0.5: h is z - 0.5 (an Offset of z, or its negation and
+  // an Offset), the side planes have no z term, one has no constant.
+  const Tape flat(mesh_face(kFlatTriangle), 3);
+  EXPECT_LT(flat.code().size(), 27u);
+  const auto flat_runs = trimmed_face_runs(flat);
+  ASSERT_EQ(flat_runs.size(), 1u);
+  EXPECT_EQ(flat_runs[0].length, flat.code().size());
+  const Plane& own = flat_runs[0].face.planes[0];
+  EXPECT_TRUE(own.kind == Plane::Kind::Variable || own.kind == Plane::Kind::Negated);
+  EXPECT_EQ(own.variables[0], 2);
+  EXPECT_EQ(std::abs(own.partials[2]), 1.0);
+  int without_constant = 0;
+  for (std::size_t k = 1; k < 4; ++k) {
+    EXPECT_EQ(flat_runs[0].face.planes[k].kind, Plane::Kind::TwoTerms);
+    without_constant += !flat_runs[0].face.planes[k].form.has_offset;
+  }
+  EXPECT_EQ(without_constant, 2);  // the two sides through the vertex at x = y = 0
+  const Tape reversed(mesh_face(kTriangle, true), 3);
+  const auto reversed_runs = trimmed_face_runs(reversed);
+  ASSERT_EQ(reversed_runs.size(), 1u);
+  EXPECT_FALSE(reversed_runs[0].face.trimming_first);
+  const Tape glued(r_and(face, mesh_face(kFlatTriangle), RSystem::r0()), 3);
+  EXPECT_EQ(trimmed_face_runs(glued).size(), 2u);
+  EXPECT_EQ(glued.code().size(), 27u + flat.code().size() + 1u);
+
+  // Not a face: a side plane read again elsewhere, a side over a computed
+  // register, a trimming by something else than two R0 of planes.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr side = x * 0.6 + y * 0.8 + z * 0.0 + 0.25;
+  const Expr h = x * 0.8 - y * 0.6 + z * 0.5 - 0.125;
+  const Expr other = x * -0.6 + y * 0.25 + z * 0.75 + 1.0;
+  const Expr fourth = x * 0.5 + y * 0.5 + z * 0.5 - 1.0;
+  const RSystem r0 = RSystem::r0();
+  const Expr shaped = trim_smooth(h, r_and(r_and(side, other, r0), fourth, r0));
+  ASSERT_EQ(trimmed_face_runs(Tape(shaped, 3)).size(), 1u);
+  EXPECT_TRUE(trimmed_face_runs(Tape(std::vector<Expr>{shaped, side}, 3)).empty());
+  const Expr computed = sin(x) * 0.6 + y * 0.8 + z * 0.1 + 0.25;
+  EXPECT_TRUE(trimmed_face_runs(Tape(trim_smooth(h, r_and(r_and(computed, other, r0), fourth, r0)), 3)).empty());
+  EXPECT_TRUE(trimmed_face_runs(Tape(trim_smooth(h, r_and(side, other, r0)), 3)).empty());
+  EXPECT_TRUE(
+      trimmed_face_runs(Tape(trim_smooth(h, r_and(r_and(side, other, RSystem::r_p(2)), fourth, r0)), 3)).empty());
+}
+
+TEST(BatchEvaluator, FusedTrimmedFacesGiveTheInstructionsBits) {
+  // Faces run as one kernel give what their instructions give one by one,
+  // in doubles and first-order tuples: on the face's plane (h = 0: the
+  // fourth power's zero), on the normal lines through its vertices (two
+  // side planes vanish: R0's corner), at a vertex, at signed zeros, NaN,
+  // infinities, overflow and underflow, glued, with the trimming in either
+  // order, and with a scale.
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const Expr face = mesh_face(kTriangle);
+  const Expr flat = mesh_face(kFlatTriangle, true);
+  const RSystem r0 = RSystem::r0();
+  const Expr side = x * 0.6 + y * 0.8 + z * 0.0 + 0.25;
+  const Expr other = x * -0.6 + y * 0.25 + z * 0.75 + 1.0;
+  const Expr fourth = x * 0.5 + y * 0.5 + z * 0.5 - 1.0;
+  const Expr scaled = trim_smooth(x * 0.8 - y * 0.6 + 0.5 * z - 0.125, r_and(r_and(side, other, r0), fourth, r0), 4.0);
+  const std::vector<Expr> roots{face, flat, r_and(face, flat, r0), r_or(flat, face, r0), scaled};
+  const Tape tape(roots, 3);
+  ASSERT_EQ(trimmed_face_runs(tape).size(), 3u);  // each face compiled once
+  Points points = random_points(150, 39, -1.5, 1.5);
+  place_special_points(points, with_extremes({{0.125, -0.25, 0.5},  // a vertex of the general face
+                                              {0.25, 0.125, 0.5},   // on the flat face: h = 0
+                                              {0.0, 0.0, 0.5},      // its vertex at x = y = 0
+                                              {0.0, 0.0, -2.0},     // on that vertex's normal line
+                                              {1.0, -0.5, 3.0},     // near another's
+                                              {1e-300, -1e-300, 0.5}}));
   expect_fused_bits(tape, points);
 }
 

@@ -26,6 +26,7 @@
 #include <sage/tape/linear_form.hpp>
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
+#include <sage/tape/trimmed_face.hpp>
 
 #include <array>
 #include <cstddef>
@@ -364,8 +365,8 @@ class BatchEvaluator {
                count);
   }
 
-  // The tape's fused runs (square_sum.hpp, smooth_trim.hpp,
-  // linear_form.hpp), by first instruction.
+  // The tape's fused runs (trimmed_face.hpp, square_sum.hpp,
+  // smooth_trim.hpp, linear_form.hpp), by first instruction.
   void find_fused_runs() {
     fused_.clear();
     if constexpr (kLaneKernels) {
@@ -377,7 +378,9 @@ class BatchEvaluator {
         i += run.length - 1;
       };
       for (std::size_t i = 0; i < n; ++i) {
-        if (auto trim = find_smooth_trim(*tape_, i))
+        if (auto face = kLinearForms ? find_trimmed_face(*tape_, i, is_constant_, constant_value_) : std::nullopt)
+          found(i, *face);
+        else if (auto trim = find_smooth_trim(*tape_, i))
           found(i, *trim);
         else if (auto sum = find_square_sum(*tape_, i, is_constant_, constant_value_))
           found(i, *sum);
@@ -387,7 +390,8 @@ class BatchEvaluator {
     }
   }
 
-  // Linear forms are found in 3D tapes only: doubles, or tuples of x, y, z.
+  // Linear forms and mesh faces are found in 3D tapes only: doubles, or
+  // tuples of x, y, z.
   static constexpr bool kLinearForms = kComponents == 1 || kComponents == 4;
 
   void run_fused(const LinearFormRun& fused, std::size_t count) {
@@ -397,6 +401,13 @@ class BatchEvaluator {
     else if constexpr (kComponents == 4)
       linear_form_lanes(fused.form, lanes_of(fused.a), lanes_of(fused.b), lanes_of(fused.c), lanes_of(fused.out),
                         count);
+  }
+
+  void run_fused(const TrimmedFaceRun& fused, std::size_t count) {
+    if constexpr (std::is_same_v<T, double>)
+      trimmed_face_values(fused.face, component(0), component(1), component(2), component(fused.out), count);
+    else if constexpr (kComponents == 4)
+      trimmed_face_lanes(fused.face, lanes_of(0), lanes_of(1), lanes_of(2), lanes_of(fused.out), count);
   }
 
   void run_fused(const SmoothTrimRun& fused, std::size_t count) {
@@ -447,7 +458,7 @@ class BatchEvaluator {
   std::vector<double> constant_value_;
   // Fused runs of instructions, and by instruction 1 + the index of the
   // run starting there (0: none).
-  std::vector<std::variant<SquareSumRun, SmoothTrimRun, LinearFormRun>> fused_;
+  std::vector<std::variant<SquareSumRun, SmoothTrimRun, LinearFormRun, TrimmedFaceRun>> fused_;
   std::vector<std::uint32_t> fused_at_;
   std::size_t count_ = 0;
   std::vector<double> data_;
