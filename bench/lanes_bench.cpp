@@ -6,17 +6,21 @@
 // (ChebyshevPatch::evaluate_rows) beside the same patch point by point;
 // and the arithmetic of primitives and trimmed faces on first-order tuples
 // (products, squares, roots, quotients, fourth powers: tuple_op_lanes.hpp)
-// beside tuple.hpp's operators a tuple at a time; and a disk's fused sum
-// of squares (square_sum.hpp) beside its instructions' kernels one by one.
+// beside tuple.hpp's operators a tuple at a time; a disk's fused sum
+// of squares (square_sum.hpp) beside its instructions' kernels one by one;
+// and a mesh face, fused (trimmed_face.hpp), beside the evaluator a point
+// at a time.
 //
 // Prints Google Benchmark's table, then each kernel's time per lane as a
 // ratio to its baseline measured in the same run (by component against a
 // tuple at a time, rows against point by point).
 
+#include <sage/expression/trimming.hpp>
 #include <sage/sampling/chebyshev_patch.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/rfunction_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
+#include <sage/tape/batch_evaluator.hpp>
 #include <sage/tape/square_sum.hpp>
 
 #include <benchmark/benchmark.h>
@@ -300,6 +304,54 @@ void BM_disk_fused(benchmark::State& state) {
 BENCHMARK(BM_disk_one_by_one);
 BENCHMARK(BM_disk_fused);
 
+// A mesh face (trimming.hpp's triangle_field, 27 instructions), value and
+// gradient at 64 points around it: the batch evaluator, where it is one
+// fused kernel (trimmed_face.hpp), beside the evaluator a point at a time
+// (the same bits, checked once).
+struct FaceBatch {
+  sage::Tape tape{sage::triangle_field({0.125, -0.25, 0.5}, {1.0, 0.0, 0.25}, {0.25, 1.0, -0.5}), 3};
+  std::vector<std::array<double, 3>> points;
+  std::vector<double> out = std::vector<double>(kLanes);
+  FaceBatch() {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    for (std::size_t p = 0; p < kLanes; ++p) points.push_back({u(rng), u(rng), u(rng)});
+  }
+};
+
+void BM_face_point_by_point(benchmark::State& state) {
+  FaceBatch face;
+  sage::Evaluator<sage::Tuple<3, 1>> single(face.tape);
+  for (auto _ : state) {
+    for (std::size_t p = 0; p < kLanes; ++p) {
+      single.evaluate(face.points[p].data());
+      face.out[p] = single.result().c[1];
+    }
+    benchmark::DoNotOptimize(face.out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+void BM_face_fused(benchmark::State& state) {
+  FaceBatch face;
+  sage::BatchEvaluator<sage::Tuple<3, 1>> batch(face.tape, kLanes);
+  sage::Evaluator<sage::Tuple<3, 1>> single(face.tape);
+  batch.evaluate(face.points.data(), kLanes);
+  for (std::size_t p = 0; p < kLanes; ++p) {
+    single.evaluate(face.points[p].data());
+    if (batch.result(p).c != single.result().c) throw std::logic_error("the fused face should give the same numbers");
+  }
+  for (auto _ : state) {
+    batch.evaluate(face.points.data(), kLanes);
+    face.out[0] = batch.result(0).c[1];
+    benchmark::DoNotOptimize(face.out.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * kLanes));
+}
+
+BENCHMARK(BM_face_point_by_point);
+BENCHMARK(BM_face_fused);
+
 // Keeps each run's time per lane for the ratios printed at the end.
 class RatioReporter : public benchmark::ConsoleReporter {
  public:
@@ -318,6 +370,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ratio("rp:4", "BM_by_component<4>", "BM_tuple_at_a_time<4>");
     ratio("patch", "BM_patch_rows", "BM_patch_point_by_point");
     ratio("disk", "BM_disk_fused", "BM_disk_one_by_one");
+    ratio("face", "BM_face_fused", "BM_face_point_by_point");
     const char* arith[] = {"kMul", "kSquare", "kSqrt", "kDiv", "kPow4"};
     const char* names[] = {"mul", "square", "sqrt", "div", "pow 4"};
     for (int a = 0; a < 5; ++a)

@@ -12,6 +12,7 @@
 //                                     normalized system) keeps |grad t| = 1 on
 //                                     its sides away from their meeting lines
 //   w_i = trim_smooth(h_i, t_i)       >= 0, zero exactly on the triangle
+//                                     (trimming.hpp's triangle_field)
 //   w   = w_0 AND ... AND w_{n-1}     a balanced tree over a bounding volume
 //                                     hierarchy of the triangles (below)
 // The edge planes are perpendicular to the face, so h_i and t_i already
@@ -30,7 +31,7 @@
 #include <sage/expression/trimming.hpp>
 
 #include <algorithm>
-#include <cmath>
+#include <array>
 #include <stdexcept>
 
 namespace sage::geometry::mesh {
@@ -38,16 +39,6 @@ namespace sage::geometry::mesh {
 namespace {
 
 using V3 = std::array<double, 3>;
-
-V3 sub(const Point& a, const Point& b) { return {a.x() - b.x(), a.y() - b.y(), a.z() - b.z()}; }
-V3 cross(const V3& u, const V3& v) {
-  return {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-}
-V3 unit(const V3& v) {
-  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  return {v[0] / len, v[1] / len, v[2] / len};
-}
-double dot(const V3& u, const Point& p) { return u[0] * p.x() + u[1] * p.y() + u[2] * p.z(); }
 
 /// The conjunction of faces[order[lo..hi)] as a tree of median splits of
 /// their centroids along the longest axis.
@@ -78,9 +69,7 @@ Expr spatial_conjunction(const std::vector<Expr>& faces, const std::vector<V3>& 
 
 Expr brep_distance(const std::vector<Point>& points, const std::vector<Triangle>& triangles, const RSystem& glue_system,
                    const RSystem& trim_system, bool orthogonalize) {
-  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
-  // g . p + c as an expression.
-  auto linear = [&](const V3& g, double c) { return x * g[0] + y * g[1] + z * g[2] + c; };
+  auto coordinates = [](const Point& p) { return std::array<double, 3>{p.x(), p.y(), p.z()}; };
   std::vector<Expr> faces;
   std::vector<V3> centroids;
   faces.reserve(triangles.size());
@@ -88,17 +77,7 @@ Expr brep_distance(const std::vector<Point>& points, const std::vector<Triangle>
   for (const Triangle& tri : triangles) {
     const Point &a = points[tri[0]], &b = points[tri[1]], &c = points[tri[2]];
     centroids.push_back({(a.x() + b.x() + c.x()) / 3, (a.y() + b.y() + c.y()) / 3, (a.z() + b.z() + c.z()) / 3});
-    const V3 n = unit(cross(sub(b, a), sub(c, a)));
-    const Expr h = linear({-n[0], -n[1], -n[2]}, dot(n, a));
-    std::vector<Expr> sides;
-    for (int j = 0; j < 3; ++j) {
-      const Point &from = points[tri[j]], &to = points[tri[(j + 1) % 3]];
-      const V3 m = unit(cross(n, sub(to, from)));
-      sides.push_back(linear(m, -dot(m, from)));
-    }
-    Expr t = r_conjunction_n(std::move(sides), trim_system);
-    if (orthogonalize) t = sage::orthogonalize(h, t, 3);
-    faces.push_back(trim_smooth(h, t));
+    faces.push_back(triangle_field(coordinates(a), coordinates(b), coordinates(c), trim_system, orthogonalize));
   }
   if (faces.empty()) throw std::invalid_argument("a mesh field needs at least one triangle");
   std::vector<int> order(faces.size());

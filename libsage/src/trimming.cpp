@@ -2,9 +2,11 @@
 #include <sage/expression/normalize.hpp>
 #include <sage/expression/trimming.hpp>
 
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sage {
 
@@ -60,6 +62,34 @@ Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& 
     case TrimMethod::Smooth: return trim_smooth(h, t, length);
   }
   return trim_smooth(h, t, length);
+}
+
+Expr triangle_field(const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c,
+                    const RSystem& system, bool orthogonal) {
+  using V = std::array<double, 3>;
+  auto sub = [](const V& u, const V& v) { return V{u[0] - v[0], u[1] - v[1], u[2] - v[2]}; };
+  auto cross = [](const V& u, const V& v) {
+    return V{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  };
+  auto unit = [](const V& v) {
+    const double length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    return V{v[0] / length, v[1] / length, v[2] / length};
+  };
+  auto dot = [](const V& u, const V& v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  auto linear = [&](const V& g, double constant) { return x * g[0] + y * g[1] + z * g[2] + constant; };
+  const V n = unit(cross(sub(b, a), sub(c, a)));
+  const Expr h = linear({-n[0], -n[1], -n[2]}, dot(n, a));
+  const std::array<V, 3> vertices{a, b, c};
+  std::vector<Expr> sides;
+  for (std::size_t j = 0; j < 3; ++j) {
+    const V& from = vertices[j];
+    const V m = unit(cross(n, sub(vertices[(j + 1) % 3], from)));
+    sides.push_back(linear(m, -dot(m, from)));
+  }
+  Expr t = r_conjunction_n(std::move(sides), system);
+  if (orthogonal) t = orthogonalize(h, t, 3);
+  return trim_smooth(h, t);
 }
 
 }  // namespace sage

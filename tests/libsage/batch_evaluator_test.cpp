@@ -442,34 +442,8 @@ TEST(BatchEvaluator, FusedLinearFormsAreFoundAndGiveTheInstructionsBits) {
   expect_fused_bits(tape, points);
 }
 
-// A mesh face as mesh_field.cpp builds it: its plane h (> 0 inside), the
-// three side planes through its edges, perpendicular to it, their R0
-// conjunction t, and the smooth trimming of h by t. `reversed` writes t as
-// s2 AND (s0 AND s1).
-Expr mesh_face(const std::array<std::array<double, 3>, 3>& v, bool reversed = false) {
-  using V = std::array<double, 3>;
-  auto sub = [](const V& a, const V& b) { return V{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; };
-  auto cross = [](const V& a, const V& b) {
-    return V{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  auto unit = [](const V& a) {
-    const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    return V{a[0] / n, a[1] / n, a[2] / n};
-  };
-  auto dot = [](const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
-  auto linear = [&](const V& g, double c) { return x * g[0] + y * g[1] + z * g[2] + c; };
-  const V n = unit(cross(sub(v[1], v[0]), sub(v[2], v[0])));
-  const Expr h = linear({-n[0], -n[1], -n[2]}, dot(n, v[0]));
-  std::vector<Expr> sides;
-  for (std::size_t j = 0; j < 3; ++j) {
-    const V m = unit(cross(n, sub(v[(j + 1) % 3], v[j])));
-    sides.push_back(linear(m, -dot(m, v[j])));
-  }
-  const RSystem r0 = RSystem::r0();
-  const Expr t = reversed ? r_and(sides[2], r_and(sides[0], sides[1], r0), r0) : r_conjunction_n(sides, r0);
-  return trim_smooth(h, t);
-}
+// Mesh faces as mesh_field.cpp builds them (trimming.hpp's triangle_field).
+Expr mesh_face(const std::array<std::array<double, 3>, 3>& v) { return triangle_field(v[0], v[1], v[2]); }
 
 const std::array<std::array<double, 3>, 3> kTriangle{{{0.125, -0.25, 0.5}, {1.0, 0.0, 0.25}, {0.25, 1.0, -0.5}}};
 // In the plane z = 0.5, with a vertex at x = y = 0: planes of one and two
@@ -514,10 +488,6 @@ TEST(BatchEvaluator, FusedTrimmedFacesAreTheirInstructionsFound) {
     without_constant += !flat_runs[0].face.planes[k].form.has_offset;
   }
   EXPECT_EQ(without_constant, 2);  // the two sides through the vertex at x = y = 0
-  const Tape reversed(mesh_face(kTriangle, true), 3);
-  const auto reversed_runs = trimmed_face_runs(reversed);
-  ASSERT_EQ(reversed_runs.size(), 1u);
-  EXPECT_FALSE(reversed_runs[0].face.trimming_first);
   const Tape glued(r_and(face, mesh_face(kFlatTriangle), RSystem::r0()), 3);
   EXPECT_EQ(trimmed_face_runs(glued).size(), 2u);
   EXPECT_EQ(glued.code().size(), 27u + flat.code().size() + 1u);
@@ -532,6 +502,10 @@ TEST(BatchEvaluator, FusedTrimmedFacesAreTheirInstructionsFound) {
   const RSystem r0 = RSystem::r0();
   const Expr shaped = trim_smooth(h, r_and(r_and(side, other, r0), fourth, r0));
   ASSERT_EQ(trimmed_face_runs(Tape(shaped, 3)).size(), 1u);
+  // The trimming written s'' AND (s AND s') is found too.
+  const auto reversed = trimmed_face_runs(Tape(trim_smooth(h, r_and(fourth, r_and(side, other, r0), r0)), 3));
+  ASSERT_EQ(reversed.size(), 1u);
+  EXPECT_FALSE(reversed[0].face.trimming_first);
   EXPECT_TRUE(trimmed_face_runs(Tape(std::vector<Expr>{shaped, side}, 3)).empty());
   const Expr computed = sin(x) * 0.6 + y * 0.8 + z * 0.1 + 0.25;
   EXPECT_TRUE(trimmed_face_runs(Tape(trim_smooth(h, r_and(r_and(computed, other, r0), fourth, r0)), 3)).empty());
@@ -548,9 +522,11 @@ TEST(BatchEvaluator, FusedTrimmedFacesGiveTheInstructionsBits) {
   // infinities, overflow and underflow, glued, with the trimming in either
   // order, and with a scale.
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
-  const Expr face = mesh_face(kTriangle);
-  const Expr flat = mesh_face(kFlatTriangle, true);
   const RSystem r0 = RSystem::r0();
+  const Expr face = mesh_face(kTriangle);
+  // A face in z = 0.5, its trimming s'' AND (s AND s'), whose sides s and
+  // s' have no constant: they vanish together on the line x = y = 0.
+  const Expr flat = trim_smooth(z * -1.0 + 0.5, r_and(y + 0.75, r_and(x * 0.6 + y * 0.8, x * -0.8 + y * 0.6, r0), r0));
   const Expr side = x * 0.6 + y * 0.8 + z * 0.0 + 0.25;
   const Expr other = x * -0.6 + y * 0.25 + z * 0.75 + 1.0;
   const Expr fourth = x * 0.5 + y * 0.5 + z * 0.5 - 1.0;
@@ -560,10 +536,10 @@ TEST(BatchEvaluator, FusedTrimmedFacesGiveTheInstructionsBits) {
   ASSERT_EQ(trimmed_face_runs(tape).size(), 3u);  // each face compiled once
   Points points = random_points(150, 39, -1.5, 1.5);
   place_special_points(points, with_extremes({{0.125, -0.25, 0.5},  // a vertex of the general face
-                                              {0.25, 0.125, 0.5},   // on the flat face: h = 0
-                                              {0.0, 0.0, 0.5},      // its vertex at x = y = 0
-                                              {0.0, 0.0, -2.0},     // on that vertex's normal line
-                                              {1.0, -0.5, 3.0},     // near another's
+                                              {0.25, 0.125, 0.5},   // on the flat face's plane: h = 0
+                                              {0.0, 0.0, 0.5},      // and where two of its sides vanish
+                                              {0.0, 0.0, -2.0},     // two sides vanish: R0's corner
+                                              {1.0, -0.5, 3.0},     // near a vertex's normal line
                                               {1e-300, -1e-300, 0.5}}));
   expect_fused_bits(tape, points);
 }

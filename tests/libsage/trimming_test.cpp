@@ -240,6 +240,53 @@ TEST(Trimming, SegmentFieldIsZeroExactlyOnTheSegmentAndDistanceLikeNearIt) {
   EXPECT_THROW(parse_trim_method("bogus"), std::invalid_argument);
 }
 
+TEST(Trimming, TriangleFieldIsZeroExactlyOnTheTriangleAndDistanceLikeNearIt) {
+  using V = std::array<double, 3>;
+  const V a{0.25, -0.5, 1.0}, b{2.0, 0.5, 0.75}, c{0.5, 1.5, -0.25};
+  auto mix = [](const V& p, double s, const V& q, double t) {
+    return V{p[0] * s + q[0] * t, p[1] * s + q[1] * t, p[2] * s + q[2] * t};
+  };
+  auto add = [&](const V& p, const V& q) { return mix(p, 1.0, q, 1.0); };
+  const V ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ac{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  V n{ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0]};
+  n = mix(n, 1.0 / std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), n, 0.0);
+  const Tape tape(triangle_field(a, b, c), 3);
+  const Tape reversed(triangle_field(a, c, b), 3);
+  Evaluator<double> w(tape), w_reversed(reversed);
+  Evaluator<Tuple<3, 1>> g(tape);
+  auto rng = test::make_rng(31);
+  for (int i = 0; i < 200; ++i) {
+    // On the triangle (barycentric), zero; along its normal, |offset| to
+    // first order with a gradient of unit length; the same field whichever
+    // way the triangle turns.
+    double s = test::uniform(rng, 0, 1), t = test::uniform(rng, 0, 1);
+    if (s + t > 1) s = 1 - s, t = 1 - t;
+    const V on = add(a, add(mix(ab, s, ac, t), V{0, 0, 0}));
+    EXPECT_NEAR(w.at(on), 0.0, 1e-7);
+    for (double d : {1e-3, -1e-4}) {
+      const V off = add(on, mix(n, d, n, 0.0));
+      const double value = w.at(off);
+      EXPECT_NEAR(value, std::abs(d), 10 * d * d + 1e-12);
+      EXPECT_NEAR(w_reversed.at(off), value, 1e-12);
+      EXPECT_NEAR(test::gradient_norm(g.at(off)), 1.0, 20 * std::abs(d));
+    }
+  }
+  // Beside an edge, in the triangle's plane and outside it: the distance
+  // to the edge.
+  for (double d : {1e-3, 1e-4}) {
+    const V middle = mix(add(a, b), 0.5, a, 0.0);
+    V out{ab[1] * n[2] - ab[2] * n[1], ab[2] * n[0] - ab[0] * n[2], ab[0] * n[1] - ab[1] * n[0]};  // ab x n
+    out = mix(out, d / std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]), out, 0.0);
+    EXPECT_NEAR(w.at(add(middle, out)), d, 10 * d * d);
+  }
+  // Away from it, positive.
+  for (int i = 0; i < 500; ++i) {
+    const V p{test::uniform(rng, -1, 3), test::uniform(rng, -1.5, 2.5), test::uniform(rng, -1.5, 2)};
+    const double plane = (p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1] + (p[2] - a[2]) * n[2];
+    if (std::abs(plane) > 1e-3) EXPECT_GT(w.at(p), 0.0);
+  }
+}
+
 // The same segment in metres and in kilometres (or any unit) gives the same
 // field in that unit: w(k p; k a, k b) = k w(p; a, b), gradients equal.
 // Unscaled, sqrt(t^2 + h^4) mixes lengths squared with lengths to the

@@ -52,4 +52,14 @@ Expr line_halfplane(const std::array<double, 2>& a, const std::array<double, 2>&
 Expr segment_field(const std::array<double, 2>& a, const std::array<double, 2>& b, TrimMethod method,
                    const RSystem& system = RSystem::r0());
 
+/// Distance-like field of the triangle a, b, c (3D; paper 004, sec. 5.1):
+/// h = n . (a - p), n the unit normal of (b - a) x (c - a), so h > 0 on
+/// the side n points away from; each side j -> k gives the plane through
+/// it perpendicular to the triangle, m . (p - v_j) with m = n x (v_k -
+/// v_j) normalized, > 0 on the triangle's side; t is their conjunction in
+/// `system` (the triangle extruded along n), made orthogonal to h if asked;
+/// smooth trimming with s = 1. Zero exactly on the triangle.
+Expr triangle_field(const std::array<double, 3>& a, const std::array<double, 3>& b, const std::array<double, 3>& c,
+                    const RSystem& system = RSystem::r0(), bool orthogonal = false);
+
 }  // namespace sage
