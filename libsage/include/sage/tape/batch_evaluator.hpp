@@ -364,7 +364,7 @@ class BatchEvaluator {
   // smooth_trim.hpp, linear_form.hpp), and the steps of the code with
   // them: a fused run or an instruction, copied. A mesh field's tape is 15
   // to 70 MB of instructions, most of them fused; read in place, each
-  // instruction left between two runs (an R0 glueing faces) was a cache
+  // instruction left between two runs (an R0 gluing faces) was a cache
   // miss per batch, about a tenth of the sampling time.
   void find_fused_runs() {
     fused_.clear();
