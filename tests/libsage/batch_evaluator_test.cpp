@@ -13,10 +13,9 @@
 //    first-order tuples (tuple_op_lanes.hpp), at signed zeros, NaN,
 //    infinities and the operators' singular branches;
 //  - for sums of squares fused into one kernel (square_sum.hpp: balls,
-//    disks), smooth trimmings (smooth_trim.hpp: every face of a mesh, every
-//    edge of a polygon B-rep), 3D linear forms (linear_form.hpp) and whole
-//    mesh faces (trimmed_face.hpp), which are found where they are and
-//    nowhere else.
+//    disks), smooth trimmings (smooth_trim.hpp: every edge of a polygon
+//    B-rep), 3D linear forms (linear_form.hpp) and whole mesh faces
+//    (trimmed_face.hpp), which are found where they are and nowhere else.
 
 #include "test_support.hpp"
 
