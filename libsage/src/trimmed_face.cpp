@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace sage {
 
@@ -21,21 +22,31 @@ namespace {
 constexpr std::size_t kNone = static_cast<std::size_t>(-1);
 using Kind = Plane::Kind;
 
-// A plane's value from its arguments' values: tuples through the
-// instructions' tuple arithmetic (a product by a constant is 0.0 + a0 p,
-// a negation a * -1.0), doubles through scalar.hpp's.
-template <bool Tuples>
-double plane_value(const Plane& plane, double a0, double b0, double c0) {
-  const LinearForm& f = plane.form;
+// A plane's value from its arguments' values, for a kind known at compile
+// time: tuples through the instructions' tuple arithmetic (a product by a
+// constant is 0.0 + a0 p, a negation a * -1.0), doubles through
+// scalar.hpp's.
+template <Kind K, bool Tuples>
+[[gnu::always_inline]] inline double plane_value(const LinearForm& f, double a0, double b0, double c0) {
+  if constexpr (K == Kind::ThreeTerms) return lane::linear_form_value<Tuples>(f, a0, b0, c0);
   double value = a0;
-  switch (plane.kind) {
-    case Kind::Variable: break;
-    case Kind::Negated: value = a0 * -1.0; break;
-    case Kind::Scaled: value = Tuples ? 0.0 + a0 * f.p : a0 * f.p; break;
-    case Kind::TwoTerms: value = a0 * f.p + b0 * f.q; break;
-    case Kind::ThreeTerms: return lane::linear_form_value<Tuples>(f, a0, b0, c0);
-  }
+  if constexpr (K == Kind::Negated) value = a0 * -1.0;
+  if constexpr (K == Kind::Scaled) value = Tuples ? 0.0 + a0 * f.p : a0 * f.p;
+  if constexpr (K == Kind::TwoTerms) value = a0 * f.p + b0 * f.q;
   return f.has_offset ? value + f.d : value;
+}
+
+// f(std::integral_constant<Kind, plane.kind>{}): the kind chosen once.
+template <class F>
+[[gnu::always_inline]] inline decltype(auto) visit_kind(Kind kind, F&& f) {
+  switch (kind) {
+    case Kind::Variable: return f(std::integral_constant<Kind, Kind::Variable>{});
+    case Kind::Negated: return f(std::integral_constant<Kind, Kind::Negated>{});
+    case Kind::Scaled: return f(std::integral_constant<Kind, Kind::Scaled>{});
+    case Kind::TwoTerms: return f(std::integral_constant<Kind, Kind::TwoTerms>{});
+    case Kind::ThreeTerms: break;
+  }
+  return f(std::integral_constant<Kind, Kind::ThreeTerms>{});
 }
 
 // A partial of the plane, from its arguments' values (a0 and c0) and
@@ -244,7 +255,8 @@ Tuple<3, 1> face_operators(const TrimmedFace& face, const std::array<Tuple<3, 1>
     const Tuple<3, 1>& a = variables[static_cast<std::size_t>(p.variables[0])];
     const Tuple<3, 1>& b = variables[static_cast<std::size_t>(p.variables[1])];
     const Tuple<3, 1>& c = variables[static_cast<std::size_t>(p.variables[2])];
-    plane[k].c[0] = plane_value<true>(p, a.c[0], b.c[0], c.c[0]);
+    plane[k].c[0] =
+        visit_kind(p.kind, [&](auto kind) { return plane_value<kind(), true>(p.form, a.c[0], b.c[0], c.c[0]); });
     for (int j = 1; j <= 3; ++j) plane[k].c[j] = plane_partial(p, a.c[0], c.c[0], a.c[j], b.c[j], c.c[j]);
   }
   const Tuple<3, 1> s = square(plane[0]);
@@ -263,21 +275,9 @@ template <bool Tuples>
   const double* b = coordinates[static_cast<std::size_t>(plane.variables[1])] + start;
   const double* c = coordinates[static_cast<std::size_t>(plane.variables[2])] + start;
   const LinearForm f = plane.form;
-  auto fill = [&](auto value) {
-    if (f.has_offset)
-      for (std::size_t l = 0; l < n; ++l) values[l] = value(l) + f.d;
-    else
-      for (std::size_t l = 0; l < n; ++l) values[l] = value(l);
-  };
-  switch (plane.kind) {
-    case Kind::Variable: fill([&](std::size_t l) { return a[l]; }); break;
-    case Kind::Negated: fill([&](std::size_t l) { return a[l] * -1.0; }); break;
-    case Kind::Scaled: fill([&](std::size_t l) { return Tuples ? 0.0 + a[l] * f.p : a[l] * f.p; }); break;
-    case Kind::TwoTerms: fill([&](std::size_t l) { return a[l] * f.p + b[l] * f.q; }); break;
-    case Kind::ThreeTerms:
-      for (std::size_t l = 0; l < n; ++l) values[l] = lane::linear_form_value<Tuples>(f, a[l], b[l], c[l]);
-      break;
-  }
+  visit_kind(plane.kind, [&](auto kind) {
+    for (std::size_t l = 0; l < n; ++l) values[l] = plane_value<kind(), Tuples>(f, a[l], b[l], c[l]);
+  });
 }
 
 // The face at one lane from its planes' values, on the regular branches:
