@@ -159,16 +159,24 @@ std::optional<TrimmedFaceRun> find_trimmed_face(const Tape& tape, std::size_t fi
   std::array<std::size_t, 2> r0{kNone, kNone};
   std::optional<SmoothTrimRun> trim;
   std::size_t trim_first = kNone;
+  // A square or an R0 of the run reads only what the run computes (or the
+  // variables): an R0 gluing earlier faces is no start, and is not parsed
+  // on into the face after it.
+  auto reads_inside = [&](std::size_t i) {
+    for (std::uint32_t p : producers[i])
+      if (p != Tape::kInput && p < first) return false;
+    return true;
+  };
   for (std::size_t i = first; i < n;) {
     if ((trim = find_smooth_trim(tape, i))) {
       trim_first = i;
       break;
     }
     const Instruction& ins = code[i];
-    if (ins.op == Op::Square && square == kNone) {
+    if (ins.op == Op::Square && square == kNone && reads_inside(i)) {
       square = i++;
     } else if ((ins.op == Op::RAnd || ins.op == Op::ROr) && r0_count < 2 &&
-               static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
+               static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0 && reads_inside(i)) {
       r0[static_cast<std::size_t>(r0_count++)] = i++;
     } else if (auto plane = plane_count < 4 ? find_plane(tape, i, is_constant, constant_value) : std::nullopt) {
       planes[static_cast<std::size_t>(plane_count++)] = {plane->plane, i + plane->length - 1};
