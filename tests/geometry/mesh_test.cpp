@@ -263,8 +263,8 @@ TEST(MeshReal, PinionSignsAndGradient) { check_real_mesh("pinion.off", count(200
 TEST(MeshReal, ElephantSignsAndGradient) { check_real_mesh("elephant.off", count(500), grad_count(20)); }
 TEST(MeshReal, OcctStlSignsAndGradient) { check_real_mesh("occt_sh1.stl", count(1000), grad_count(40)); }
 
-// Grid sampling runs a mesh field's faces through the batch kernels (planes,
-// smooth trimmings and R0 fused, constants as Scales): on a real mesh, with
+// Grid sampling runs a mesh field's faces through the batch kernels (each
+// face one fused kernel, constants as Scales): on a real mesh, with
 // points inside, outside and near its edges and corners, every value and
 // gradient is the point evaluator's, bit for bit.
 TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
