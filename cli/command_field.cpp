@@ -65,6 +65,15 @@ int run_field(const std::vector<std::string>& args) {
                 << r.absolute_tolerance << ") each"
                 << (r.default_evaluation ? " (the default for 2D R-function fields)" : "")
                 << "; --exact for exact evaluation\n";
+    else if (r.far_faces)
+      std::cout << "far mesh faces in single precision (clusters farther from a batch of points than their size): "
+                << "deviation from exact evaluation at most " << r.far_faces_deviation
+                << " of the grid box's diagonal at " << r.far_faces_check_points
+                << " grid points; --exact for exact evaluation\n";
+    else if (r.far_faces_rejected)
+      std::cout << "exact evaluation: far mesh faces in single precision deviated by " << r.far_faces_deviation
+                << " of the grid box's diagonal (more than " << r.far_faces_limit
+                << "), so the grid was sampled again\n";
     else
       std::cout << "exact evaluation"
                 << (r.default_evaluation ? " (far-field patches pay only for 2D R-function fields)" : "") << "\n";

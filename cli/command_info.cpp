@@ -5,6 +5,7 @@
 
 #include <sage/sampling/field_samples.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/far_faces.hpp>
 #include <sage/tape/tape.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
@@ -58,6 +59,9 @@ int run_info(const std::vector<std::string>& args) {
       std::cout << "sampling:    sage field by default: far parts of the field become patches within "
                 << kDefaultFarFieldTolerance << " of the bounds' diagonal (" << kDefaultFarFieldTolerance * diagonal
                 << "); --exact for exact evaluation\n";
+    else if (far_faces_pay(tape))
+      std::cout << "sampling:    sage field by default: mesh faces far from each batch of points in single "
+                   "precision, the deviation measured and printed; --exact for exact evaluation\n";
     else
       std::cout << "sampling:    sage field by default: exact (far-field patches pay only for 2D R-function fields)\n";
   } else {

@@ -36,6 +36,13 @@ struct FieldReport {
   double relative_tolerance = 0;   // of the grid box's diagonal, 0 when exact
   double absolute_tolerance = 0;   // in field units, 0 when exact
   bool default_evaluation = true;  // the tolerance was chosen by sage, not given
+  // Far mesh faces in single precision: used, or tried and rejected (then
+  // exact), and the largest deviation measured (relative to the diagonal).
+  bool far_faces = false;
+  bool far_faces_rejected = false;
+  double far_faces_deviation = 0;
+  std::size_t far_faces_check_points = 0;
+  double far_faces_limit = 0;
 };
 
 /// Reads any geometry source with the job's options (throws ModelError).

@@ -2,7 +2,11 @@
 #include <sage/sampling/pruned_grid.hpp>
 #include <sage/scalars/tuple.hpp>
 
+#include <sage/tape/batch_evaluator.hpp>
+
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -20,6 +24,7 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
   s.grid = grid;
   s.order = K;
   s.far_field_tolerance = approximation ? approximation->tolerance : 0.0;
+  s.far_faces = approximation && approximation->far_faces && grid.dimension == 3 && K <= 1;
   s.omega.resize(n);
   if (K >= 1) {
     s.gradient.assign(3 * n, 0.0);
@@ -84,6 +89,35 @@ FieldSamples dispatch(const Tape& tape, const Grid& grid, int order, const Progr
   }
 }
 
+// The largest |omega - exact omega| over `points` grid points (the same
+// points every run), relative to the grid box's diagonal.
+double far_faces_deviation(const Tape& tape, const Grid& grid, const std::vector<double>& omega, std::size_t points) {
+  std::mt19937_64 random(20261206);
+  std::uniform_int_distribution<std::size_t> pick(0, grid.size() - 1);
+  constexpr std::size_t kBatch = 128;
+  BatchEvaluator<double> exact(tape, kBatch);
+  std::array<std::size_t, kBatch> index{};
+  std::array<std::array<double, 3>, kBatch> at{};
+  double deviation = 0;
+  for (std::size_t done = 0; done < points; done += kBatch) {
+    const std::size_t count = std::min(kBatch, points - done);
+    for (std::size_t l = 0; l < count; ++l) {
+      index[l] = pick(random);
+      at[l] = grid.point(index[l]);
+    }
+    exact.evaluate(at.data(), count);
+    for (std::size_t l = 0; l < count; ++l)
+      deviation = std::max(deviation, std::fabs(omega[index[l]] - exact.result(l)));
+  }
+  return deviation / grid.diagonal();
+}
+
+FieldSamples dispatch_by_dimension(const Tape& tape, const Grid& grid, int order, const Progress& progress,
+                                   const Approximation* approximation) {
+  if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress, approximation);
+  return dispatch<3>(tape, grid, order, progress, approximation);
+}
+
 }  // namespace
 
 FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress,
@@ -91,8 +125,19 @@ FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const P
   if (order < 0 || order > kMaxSampleOrder)
     throw std::invalid_argument("order must be from 0 to " + std::to_string(kMaxSampleOrder));
   if (grid.dimension != tape.dimension()) throw std::invalid_argument("grid and tape dimensions differ");
-  if (grid.dimension == 2) return dispatch<2>(tape, grid, order, progress, approximation);
-  return dispatch<3>(tape, grid, order, progress, approximation);
+  FieldSamples s = dispatch_by_dimension(tape, grid, order, progress, approximation);
+  if (!s.far_faces) return s;
+  s.far_faces_deviation = far_faces_deviation(tape, grid, s.omega, approximation->far_faces_check_points);
+  if (s.far_faces_deviation <= approximation->far_faces_limit) return s;
+  // Beyond the limit (a field too large for single precision's roundings):
+  // exactly, saying so.
+  Approximation exact = *approximation;
+  exact.far_faces = false;
+  const double deviation = s.far_faces_deviation;
+  s = dispatch_by_dimension(tape, grid, order, progress, &exact);
+  s.far_faces_rejected = true;
+  s.far_faces_deviation = deviation;
+  return s;
 }
 
 }  // namespace sage

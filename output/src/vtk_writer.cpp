@@ -35,15 +35,27 @@ vtkNew<vtkDoubleArray> make_array(const std::string& name, int components, const
 }
 
 /// Field data saying how the samples were made (ParaView shows it in the
-/// spreadsheet view's field data): "evaluation" in words, and
-/// "far_field_tolerance" in field units (0 when exact).
+/// spreadsheet view's field data): "evaluation" in words,
+/// "far_field_tolerance" in field units (0 when exact) and, with far mesh
+/// faces in single precision, "far_faces_deviation" as measured (relative
+/// to the grid box's diagonal).
 void add_provenance(vtkFieldData* data, const FieldSamples& s) {
   vtkNew<vtkStringArray> evaluation;
   evaluation->SetName("evaluation");
-  evaluation->InsertNextValue(s.far_field_tolerance > 0
-                                  ? "far-field approximation: patches within far_field_tolerance of the exact field"
-                                  : "exact");
+  if (s.far_field_tolerance > 0)
+    evaluation->InsertNextValue("far-field approximation: patches within far_field_tolerance of the exact field");
+  else if (s.far_faces)
+    evaluation->InsertNextValue(
+        "far mesh faces in single precision: deviation from exact evaluation measured as far_faces_deviation");
+  else
+    evaluation->InsertNextValue("exact");
   data->AddArray(evaluation);
+  if (s.far_faces) {
+    vtkNew<vtkDoubleArray> deviation;
+    deviation->SetName("far_faces_deviation");
+    deviation->InsertNextValue(s.far_faces_deviation);
+    data->AddArray(deviation);
+  }
   vtkNew<vtkDoubleArray> tolerance;
   tolerance->SetName("far_field_tolerance");
   tolerance->InsertNextValue(s.far_field_tolerance);

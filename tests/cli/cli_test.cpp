@@ -4,10 +4,12 @@
 
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
+#include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkXMLImageDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include "cli_support.hpp"
@@ -313,11 +315,36 @@ TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
   expect_failure("info " + shared_data("gis/greece_ne10m.geojson"), {"greece_ne10m.geojson", "vertex", "--repair"});
 }
 
+// A mesh's trimmed-face field: far faces in single precision by default,
+// said and recorded with the deviation measured; --exact turns it off.
 TEST(CliGeometry, MeshField) {
   const fs::path out = scratch("joint.vti");
   const Result r = run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 10x10x10 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_GT(fs::file_size(out), 0u);
+  auto evaluation = [](const fs::path& file, double& deviation) {
+    vtkNew<vtkXMLImageDataReader> reader;
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    vtkFieldData* field = reader->GetOutput()->GetFieldData();
+    vtkDataArray* measured = field->GetArray("far_faces_deviation");
+    deviation = measured ? measured->GetTuple1(0) : -1;
+    auto* e = vtkStringArray::SafeDownCast(field->GetAbstractArray("evaluation"));
+    return e ? e->GetValue(0) : std::string();
+  };
+  const Result fast = run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 16x16x16");
+  EXPECT_NE(fast.output.find("far mesh faces in single precision"), std::string::npos) << fast.output;
+  double deviation = -1;
+  EXPECT_NE(evaluation(out, deviation).find("far mesh faces"), std::string::npos);
+  EXPECT_GE(deviation, 0.0);
+  EXPECT_LT(deviation, 1e-9);
+  const Result exact =
+      run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 16x16x16 --exact");
+  EXPECT_NE(exact.output.find("exact evaluation"), std::string::npos) << exact.output;
+  EXPECT_EQ(evaluation(out, deviation), "exact");
+  EXPECT_EQ(deviation, -1);
+  const Result info = run("info " + shared_data("meshes/joint.off"));
+  EXPECT_NE(info.output.find("single precision"), std::string::npos) << info.output;
   expect_failure("field " + write_file("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n") + " -o " + out.string(), {"bad.off"});
 }
 

@@ -11,6 +11,7 @@
 #include <sage/geometry/mesh_model.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/far_faces.hpp>
 
 #include <CGAL/AABB_face_graph_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
@@ -27,6 +28,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <set>
 #include <sstream>
@@ -263,6 +265,19 @@ TEST(MeshReal, PinionSignsAndGradient) { check_real_mesh("pinion.off", count(200
 TEST(MeshReal, ElephantSignsAndGradient) { check_real_mesh("elephant.off", count(500), grad_count(20)); }
 TEST(MeshReal, OcctStlSignsAndGradient) { check_real_mesh("occt_sh1.stl", count(1000), grad_count(40)); }
 
+// A grid over the model's bounds widened by `margin` of their size.
+sage::Grid grid_around(const Model& m, double margin, const std::array<int, 3>& points) {
+  sage::Grid g;
+  g.dimension = 3;
+  for (int a = 0; a < 3; ++a) {
+    const double wider = margin * (m.bounds->max[a] - m.bounds->min[a]);
+    g.lo[a] = m.bounds->min[a] - wider;
+    g.hi[a] = m.bounds->max[a] + wider;
+  }
+  g.points = points;
+  return g;
+}
+
 // Grid sampling runs a mesh field's faces through the batch kernels (each
 // face one fused kernel, constants as Scales): on a real mesh, with
 // points inside, outside and near its edges and corners, every value and
@@ -273,14 +288,7 @@ TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
   const Model m = load_mesh(shared_mesh("joint.off"), options);
   ASSERT_TRUE(m.bounds);
   const sage::Tape tape(m.field, 3);
-  sage::Grid g;
-  g.dimension = 3;
-  for (int a = 0; a < 3; ++a) {
-    const double margin = 0.1 * (m.bounds->max[a] - m.bounds->min[a]);
-    g.lo[a] = m.bounds->min[a] - margin;
-    g.hi[a] = m.bounds->max[a] + margin;
-  }
-  g.points = {11, 9, 7};
+  const sage::Grid g = grid_around(m, 0.1, {11, 9, 7});
   const sage::FieldSamples s = sage::sample_field(tape, g, 1);
   sage::Evaluator<sage::Tuple<3, 1>> ev(tape);
   for (std::size_t i = 0; i < g.size(); ++i) {
@@ -288,6 +296,67 @@ TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
     ASSERT_EQ(s.omega[i], t.value()) << "point " << i;
     for (int v = 0; v < 3; ++v) ASSERT_EQ(s.gradient[3 * i + static_cast<std::size_t>(v)], t.gradient()[v]) << i;
   }
+}
+
+// sage field's default for mesh fields: faces far from a batch of points
+// in single precision (far_faces.hpp). R0 is homogeneous of degree 1, so
+// relative errors of the far clusters move the field by the same fraction
+// of its value: within 64 single-precision roundings of |omega| at every
+// grid point, and the gradient within 1e-4 of its length; no sign changes.
+void check_far_faces(const std::string& file, int points) {
+  LoadOptions options;
+  options.method = "brep";
+  const Model m = load_mesh(shared_mesh(file), options);
+  ASSERT_TRUE(m.bounds);
+  const sage::Tape tape(m.field, 3);
+  ASSERT_TRUE(sage::far_faces_pay(tape));
+  const sage::Grid g = grid_around(m, 0.05, {points, points, points});
+  sage::Approximation far;
+  far.far_faces = true;
+  const sage::FieldSamples got = sage::sample_field(tape, g, 1, {}, &far);
+  const sage::FieldSamples exact = sage::sample_field(tape, g, 1);
+  ASSERT_TRUE(got.far_faces);
+  EXPECT_FALSE(got.far_faces_rejected);
+  EXPECT_GT(got.far_faces_deviation, 0);
+  EXPECT_LE(got.far_faces_deviation, far.far_faces_limit);
+  const double epsilon = std::numeric_limits<float>::epsilon();
+  double worst = 0, worst_gradient = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double w = exact.omega[i];
+    ASSERT_EQ(got.omega[i] > 0, w > 0) << "point " << i;
+    worst = std::max(worst, std::fabs(got.omega[i] - w) / (epsilon * std::fabs(w)));
+    double d2 = 0;
+    for (std::size_t v = 0; v < 3; ++v) d2 += std::pow(got.gradient[3 * i + v] - exact.gradient[3 * i + v], 2);
+    worst_gradient = std::max(worst_gradient, std::sqrt(d2) / exact.gradient_norm[i]);
+  }
+  std::cout << file << " at " << points << "^3: far faces move omega by at most " << worst
+            << " single-precision roundings of |omega|, the gradient by " << worst_gradient << " of its length\n";
+  EXPECT_GT(worst, 0);  // single precision ran
+  EXPECT_LT(worst, 64);
+  EXPECT_LT(worst_gradient, 1e-4);
+}
+
+TEST(MeshReal, FarFacesStayWithinTheirBoundOnJoint) { check_far_faces("joint.off", 24); }
+TEST(MeshReal, FarFacesStayWithinTheirBoundOnElephant) { check_far_faces("elephant.off", 20); }
+
+// Where the measured deviation is beyond the limit, the samples are the
+// exact ones (bit for bit), and they say so.
+TEST(MeshReal, FarFacesBeyondTheLimitAreSampledAgainExactly) {
+  LoadOptions options;
+  options.method = "brep";
+  const Model m = load_mesh(shared_mesh("joint.off"), options);
+  const sage::Tape tape(m.field, 3);
+  const sage::Grid g = grid_around(m, 0.05, {12, 12, 12});
+  sage::Approximation strict;
+  strict.far_faces = true;
+  strict.far_faces_limit = 1e-15;
+  const sage::FieldSamples got = sage::sample_field(tape, g, 1, {}, &strict);
+  const sage::FieldSamples exact = sage::sample_field(tape, g, 1);
+  EXPECT_FALSE(got.far_faces);
+  EXPECT_TRUE(got.far_faces_rejected);
+  EXPECT_GT(got.far_faces_deviation, 1e-15);
+  EXPECT_EQ(got.omega, exact.omega);
+  EXPECT_EQ(got.gradient, exact.gradient);
 }
 
 TEST(MeshReal, NotesReportTopology) {

@@ -23,6 +23,7 @@
 #include <sage/expression/trimming.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/far_faces.hpp>
 #include <sage/tape/linear_form.hpp>
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
@@ -541,6 +542,136 @@ TEST(BatchEvaluator, FusedTrimmedFacesGiveTheInstructionsBits) {
                                               {1.0, -0.5, 3.0},     // near a vertex's normal line
                                               {1e-300, -1e-300, 0.5}}));
   expect_fused_bits(tape, points);
+}
+
+// ---- far faces in single precision (far_faces.hpp) ----
+
+// A small triangle in the plane z = height, near (cx, cy).
+std::array<std::array<double, 3>, 3> small_triangle(double cx, double cy, double height) {
+  return {{{cx, cy, height}, {cx + 0.2, cy + 0.05, height}, {cx + 0.05, cy + 0.2, height}}};
+}
+
+TEST(BatchEvaluator, FarFacesAreClustersReadOnlyThroughTheirRoots) {
+  std::vector<TrimmedFace> faces;
+  for (int k = 0; k < 4; ++k)
+    faces.push_back(trimmed_face_runs(Tape(mesh_face(small_triangle(k, 0, 0)), 3)).at(0).face);
+  using Kind = FarFaces::Step::Kind;
+  auto face = [&](int k, std::uint32_t out) {
+    return FarFaces::Step{Kind::Face, &faces[static_cast<std::size_t>(k)], -1, out, {}, 0};
+  };
+  auto glue = [](std::uint32_t a, std::uint32_t b, std::uint32_t out) {
+    return FarFaces::Step{Kind::Glue, nullptr, -1, out, {a, b, 0}, 2};
+  };
+  auto other = [](std::uint32_t read, std::uint32_t out) {
+    return FarFaces::Step{Kind::Other, nullptr, -1, out, {read, read, 0}, 2};
+  };
+  // ((f0 f1) (f2 f3)): four faces, three glues, every one a cluster.
+  const std::vector<FarFaces::Step> tree{face(0, 10), face(1, 11),      glue(10, 11, 12), face(2, 13),
+                                         face(3, 14), glue(13, 14, 15), glue(12, 15, 16)};
+  FarFaces clusters;
+  clusters.build(tree, {16});
+  EXPECT_EQ(clusters.cluster_count(), 7u);
+  Box3 far_away{{100, 100, 100}, {101, 101, 101}};
+  ASSERT_EQ(clusters.last_step(clusters.far_cluster_at(0, far_away)), 6u);  // the whole tree
+  EXPECT_EQ(clusters.output(clusters.far_cluster_at(0, far_away)), 16u);
+  // Beside f0: f0 itself is near, (f0 f1) too; f1 alone is far enough.
+  const Box3 beside_f0{{0.0, 0.0, 0.05}, {0.1, 0.1, 0.15}};
+  EXPECT_EQ(clusters.far_cluster_at(0, beside_f0), -1);
+  EXPECT_GE(clusters.far_cluster_at(3, beside_f0), 0);  // (f2 f3)
+
+  // f0's result read after the tree: (f0 f1) and the whole tree would skip
+  // computing it, so they are no clusters.
+  std::vector<FarFaces::Step> read_inside = tree;
+  read_inside.push_back(other(10, 17));
+  clusters.build(read_inside, {16, 17});
+  EXPECT_EQ(clusters.cluster_count(), 5u);
+  EXPECT_EQ(clusters.last_step(clusters.far_cluster_at(0, far_away)), 0u);  // f0 alone
+  // A register written again before it is read holds a new value: no harm.
+  std::vector<FarFaces::Step> reused = tree;
+  reused.push_back(other(1, 10));
+  reused.push_back(other(10, 18));
+  clusters.build(reused, {16, 18});
+  EXPECT_EQ(clusters.cluster_count(), 7u);
+  // A glue whose faces are not just before it glues no cluster.
+  const std::vector<FarFaces::Step> apart{face(0, 10), face(1, 11), other(1, 20), glue(10, 11, 12)};
+  clusters.build(apart, {12, 20});
+  EXPECT_EQ(clusters.cluster_count(), 2u);
+}
+
+TEST(BatchEvaluator, FarFacesRunInSinglePrecisionNearTheDoubles) {
+  // 16 small triangles on a ring, glued by a balanced R0 tree; the second
+  // root reads a face's result too.
+  std::vector<Expr> level;
+  for (int k = 0; k < 16; ++k) {
+    const double angle = 2 * std::numbers::pi * k / 16;
+    level.push_back(mesh_face(small_triangle(std::cos(angle), std::sin(angle), 0.05 * k)));
+  }
+  const Expr first = level[0];
+  while (level.size() > 1) {
+    std::vector<Expr> next;
+    for (std::size_t k = 0; k + 1 < level.size(); k += 2) next.push_back(r_and(level[k], level[k + 1], RSystem::r0()));
+    level = next;
+  }
+  const Tape tape(std::vector<Expr>{level[0], first * 2.0}, 3);
+  BatchEvaluator<Tuple<3, 1>> exact(tape, 128), far(tape, 128);
+  far.set_far_faces(true);
+  BatchEvaluator<double> exact_values(tape, 128), far_values(tape, 128);
+  far_values.set_far_faces(true);
+  const double epsilon = std::numeric_limits<float>::epsilon();
+  auto check = [&](const Points& points, bool bits, std::size_t roots) {
+    exact.evaluate(points.data(), points.size());
+    far.evaluate(points.data(), points.size());
+    exact_values.evaluate(points.data(), points.size());
+    far_values.evaluate(points.data(), points.size());
+    for (std::size_t l = 0; l < points.size(); ++l)
+      for (std::size_t root = 0; root < roots; ++root) {
+        const Tuple<3, 1> want = exact.result(l, root), got = far.result(l, root);
+        EXPECT_NEAR(far_values.result(l, root), want.value(), 64 * epsilon * want.value()) << l;
+        if (bits) {
+          EXPECT_EQ(got.value(), want.value());
+          EXPECT_EQ(got.gradient(), want.gradient());
+          continue;
+        }
+        EXPECT_NEAR(got.value(), want.value(), 64 * epsilon * want.value()) << l;
+        const auto gw = want.gradient(), gg = got.gradient();
+        const double length = std::hypot(gw[0], gw[1], gw[2]);
+        EXPECT_LT(std::hypot(gg[0] - gw[0], gg[1] - gw[1], gg[2] - gw[2]), 1e-4 * length) << l;
+      }
+  };
+  // Far above the ring: every cluster at once, in five runs, for the second
+  // root reads f0 and no cluster holding f0 with other faces may skip it:
+  // f0, f1, (f2 f3), (f4 .. f7) and (f8 .. f15).
+  Points above = random_points(128, 7, -0.1, 0.1);
+  for (auto& p : above) p[2] += 6.0;
+  std::size_t runs = far.far_cluster_runs();
+  check(above, false, 2);
+  EXPECT_EQ(far.far_cluster_runs(), runs + 5);
+  // Beside one triangle: it stays in doubles, far clusters do not.
+  Points beside = random_points(128, 8, -0.05, 0.05);
+  for (auto& p : beside) p = {p[0] + 1.1, p[1] + 0.1, p[2] + 0.1};
+  runs = far.far_cluster_runs();
+  check(beside, false, 2);
+  EXPECT_GT(far.far_cluster_runs(), runs);
+  // On the normal line through a far face's vertex, where its first R0's
+  // sides vanish (x = y = 0, as in FusedTrimmedFacesGiveTheInstructionsBits)
+  // in single precision too: R0's corner, where its partials are not
+  // defined, so the batch's tuples run in doubles, bit for bit (values
+  // alone are regular there).
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const RSystem r0 = RSystem::r0();
+  const Tape corner(trim_smooth(z * -1.0 + 0.5, r_and(y + 0.75, r_and(x * 0.6 + y * 0.8, x * -0.8 + y * 0.6, r0), r0)),
+                    3);
+  exact.rebind(corner, 128);
+  far.rebind(corner, 128);
+  exact_values.rebind(corner, 128);
+  far_values.rebind(corner, 128);
+  Points line(128);
+  for (std::size_t l = 0; l < line.size(); ++l)
+    line[l] = {l % 2 ? 0.01 : -0.01, l % 4 < 2 ? 0.01 : -0.01, 20.0 + 0.01 * static_cast<double>(l / 4)};
+  line[0] = {0, 0, 20.0};
+  runs = far.far_cluster_runs();
+  check(line, true, 1);
+  EXPECT_EQ(far.far_cluster_runs(), runs);
 }
 
 TEST(BatchEvaluator, ReusedRegistersAndSeveralRoots) {

@@ -50,6 +50,13 @@ struct Approximation {
   double enlargement = 1;        // singular sets must be this many half-diagonals from the box centre
   int sampling_degree = 16;      // (n + 1)^dim Chebyshev samples, patches of total degree <= n - 2
   std::size_t min_subtree = 16;  // smaller subtrees are cheaper to run than a patch (a row at a time)
+  // Mesh faces far from a batch in single precision (far_faces.hpp; order
+  // <= 1), checked against exact evaluation at far_faces_check_points grid
+  // points: beyond far_faces_limit of the grid box's diagonal, the grid is
+  // sampled again exactly.
+  bool far_faces = false;
+  double far_faces_limit = 1e-9;
+  std::size_t far_faces_check_points = 2000;
 };
 
 }  // namespace sage

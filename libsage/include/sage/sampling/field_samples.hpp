@@ -31,6 +31,14 @@ struct FieldSamples {
   // How the samples were made, written beside them as field data: 0 for
   // exact evaluation, else the far-field tolerance (field units).
   double far_field_tolerance = 0;
+  // Whether mesh faces far from the points ran in single precision
+  // (far_faces.hpp), and the largest deviation from exact evaluation
+  // measured at sample points, relative to the grid box's diagonal; if it
+  // was beyond the limit, far_faces is false again (the samples are
+  // exact) and far_faces_rejected true.
+  bool far_faces = false;
+  bool far_faces_rejected = false;
+  double far_faces_deviation = 0;
   std::vector<double> omega;
   std::vector<double> gradient;
   std::vector<double> gradient_norm;

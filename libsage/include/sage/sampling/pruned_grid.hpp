@@ -66,11 +66,13 @@ struct BlockPlan {
   bool prune = true;
   const Approximation* approximation = nullptr;
   std::size_t patch_points = 0;
+  bool far_faces = false;  // batches run far mesh faces in single precision
 };
 
 inline BlockPlan plan_for(const Tape& tape, const Grid& grid, const Approximation* approximation) {
   BlockPlan plan;
   plan.prune = TapeSpecializer::worthwhile(tape);
+  plan.far_faces = approximation && approximation->far_faces && grid.dimension == 3;
   if (approximation && approximation->tolerance > 0) {
     plan.approximation = approximation;
     // A patch costs (n + 1)^dim samples of its subtree: fit it only over
@@ -186,6 +188,7 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
   else
     reused = std::make_unique<BatchEvaluator<T>>(tape, width);
   BatchEvaluator<T>& batch = *reused;
+  batch.set_far_faces(plan.far_faces);
   const std::size_t nx_grid = static_cast<std::size_t>(grid.points[0]),
                     ny_grid = static_cast<std::size_t>(grid.points[1]);
   const std::size_t chunk = std::min(static_cast<std::size_t>(block.hi[0] - block.lo[0]), kBatchPoints);
@@ -235,6 +238,26 @@ void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit,
   for (int a = 0; a < 3; ++a) all.hi[a] = grid.points[a];
   std::atomic<std::size_t> done{0};
   const detail::BlockPlan plan = detail::plan_for(tape, grid, approximation);
+  if (!detail::splits(tape, all, plan) && plan.far_faces) {
+    // Far faces need compact batches: bricks of 8 x 4 x 4 points (a batch
+    // each), in parallel.
+    const std::array<int, 3> brick{8, 4, 4};
+    std::array<int, 3> bricks{};
+    for (int a = 0; a < 3; ++a) bricks[a] = (grid.points[a] + brick[a] - 1) / brick[a];
+    const int total = bricks[0] * bricks[1] * bricks[2];
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int b = 0; b < total; ++b) {
+      detail::GridBlock block;
+      const std::array<int, 3> at{b % bricks[0], (b / bricks[0]) % bricks[1], b / (bricks[0] * bricks[1])};
+      for (int a = 0; a < 3; ++a) {
+        block.lo[a] = at[a] * brick[a];
+        block.hi[a] = std::min(grid.points[a], block.lo[a] + brick[a]);
+      }
+      detail::visit_block<T>(tape, grid, block, visit, detail::kTaskDepth, done, progress, plan);
+    }
+    if (progress) progress(1.0);
+    return;
+  }
   if (!detail::splits(tape, all, plan)) {
     // Nothing to specialize (no min/max node and no far field, or a tape
     // too short): slabs of whole grid rows, in parallel, each run in

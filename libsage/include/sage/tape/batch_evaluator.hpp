@@ -23,11 +23,13 @@
 #include <sage/scalars/tuple_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/far_faces.hpp>
 #include <sage/tape/linear_form.hpp>
 #include <sage/tape/smooth_trim.hpp>
 #include <sage/tape/square_sum.hpp>
 #include <sage/tape/trimmed_face.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <type_traits>
@@ -65,9 +67,25 @@ class BatchEvaluator {
       constant_value_[r] = c;
     }
     find_fused_runs();
+    if (far_faces_on_) set_far_faces(true);
   }
 
   std::size_t width() const { return width_; }
+
+  /// Whether clusters of mesh faces far from a batch's points run in single
+  /// precision (far_faces.hpp): no longer the instructions' bits, within
+  /// about 1e-7 of the field, relative. For 3D tapes of doubles or
+  /// first-order tuples; a no-op for others.
+  void set_far_faces(bool on) {
+    if constexpr (kLinearForms) {
+      on = on && tape_->dimension() == 3;
+      if (on && (!far_faces_on_ || far_faces_serial_ != serial_)) build_far_faces();
+      far_faces_on_ = on;
+    }
+  }
+
+  /// Far clusters run in single precision since the evaluator was made.
+  std::size_t far_cluster_runs() const { return far_cluster_runs_; }
 
   /// Evaluates every root at points[0..count-1], count <= width().
   void evaluate(const std::array<double, 3>* points, std::size_t count) {
@@ -75,6 +93,15 @@ class BatchEvaluator {
     for (int v = 0; v < tape_->dimension(); ++v)
       for (std::size_t l = 0; l < count; ++l)
         store(static_cast<std::uint32_t>(v), l, Seed<T>::variable(v, points[l][v]));
+    if (far_faces_on_) {
+      for (int a = 0; a < 3; ++a) {
+        box_.lo[a] = box_.hi[a] = count > 0 ? points[0][a] : 0.0;
+        for (std::size_t l = 0; l < count; ++l) {
+          box_.lo[a] = std::min(box_.lo[a], points[l][a]);
+          box_.hi[a] = std::max(box_.hi[a], points[l][a]);
+        }
+      }
+    }
     run(nullptr);
   }
 
@@ -90,6 +117,18 @@ class BatchEvaluator {
         for (std::size_t i = 0; i < nx; ++i)
           store(static_cast<std::uint32_t>(v), r * nx + i,
                 Seed<T>::variable(v, v == 0 ? xs[i] : rows[r][static_cast<std::size_t>(v - 1)]));
+    if (far_faces_on_ && nx > 0 && row_count > 0) {
+      box_.lo[0] = *std::min_element(xs, xs + nx);
+      box_.hi[0] = *std::max_element(xs, xs + nx);
+      for (int a = 1; a < 3; ++a) {
+        const auto k = static_cast<std::size_t>(a - 1);
+        box_.lo[a] = box_.hi[a] = rows[0][k];
+        for (std::size_t r = 0; r < row_count; ++r) {
+          box_.lo[a] = std::min(box_.lo[a], rows[r][k]);
+          box_.hi[a] = std::max(box_.hi[a], rows[r][k]);
+        }
+      }
+    }
     const Rows layout{xs, nx, rows, row_count};
     run(&layout);
   }
@@ -156,6 +195,15 @@ class BatchEvaluator {
     const std::size_t steps = steps_.size();
     for (std::size_t i = 0; i < steps; ++i) {
       const Instruction& ins = steps_[i].instruction;
+      if constexpr (kLinearForms) {
+        if (far_faces_on_) {
+          const int cluster = far_faces_.far_cluster_at(i, box_);
+          if (cluster >= 0 && run_far(cluster, count)) {
+            i = far_faces_.last_step(cluster);
+            continue;
+          }
+        }
+      }
       if constexpr (kLaneKernels) {
         if (steps_[i].fused) {
           std::visit([&](const auto& fused) { run_fused(fused, count); }, fused_[steps_[i].fused - 1]);
@@ -402,6 +450,65 @@ class BatchEvaluator {
   // tuples of x, y, z.
   static constexpr bool kLinearForms = kComponents == 1 || kComponents == 4;
 
+  // The clusters of fused faces glued by R0, from the steps.
+  void build_far_faces() {
+    std::vector<FarFaces::Step> view(steps_.size());
+    for (std::size_t i = 0; i < steps_.size(); ++i) {
+      const Instruction& ins = steps_[i].instruction;
+      FarFaces::Step& v = view[i];
+      v.out = ins.out;
+      v.reads = {ins.a, ins.b, 0};
+      v.read_count = 2;
+      if (steps_[i].fused) {
+        std::visit(
+            [&](const auto& run) {
+              using Run = std::decay_t<decltype(run)>;
+              v.out = run.out;
+              if constexpr (std::is_same_v<Run, TrimmedFaceRun>) {
+                v.kind = FarFaces::Step::Kind::Face;
+                v.face = &run.face;
+                v.read_count = 0;  // x, y and z
+              } else if constexpr (std::is_same_v<Run, LinearFormRun>) {
+                v.reads = {run.a, run.b, run.c};
+                v.read_count = 3;
+              } else if constexpr (std::is_same_v<Run, SmoothTrimRun>) {
+                v.reads = {run.t, run.h, run.addend};
+                v.read_count = 3;
+              } else {
+                v.reads = run.arguments;
+                v.read_count = run.sum.terms;
+              }
+            },
+            fused_[steps_[i].fused - 1]);
+      } else if ((ins.op == Op::RAnd || ins.op == Op::ROr) &&
+                 static_cast<RKind>(static_cast<int>(ins.p0)) == RKind::R0) {
+        v.kind = FarFaces::Step::Kind::Glue;
+        v.sign = ins.op == Op::RAnd ? -1.0 : 1.0;
+      }
+    }
+    far_faces_.build(view, tape_->results());
+    far_faces_serial_ = serial_;
+  }
+
+  // The cluster in single precision into its register; false (and nothing
+  // written) where some lane is not finite.
+  bool run_far(int cluster, std::size_t count) {
+    std::array<double, 3> centre{};
+    for (int a = 0; a < 3; ++a) centre[a] = 0.5 * (box_.lo[a] + box_.hi[a]);
+    const std::uint32_t out = far_faces_.output(cluster);
+    bool done = false;
+    if constexpr (std::is_same_v<T, double>) {
+      done = far_faces_.evaluate(cluster, centre, component(0), component(1), component(2), count, component(out),
+                                 nullptr);
+    } else {
+      const std::array<double*, 3> gradient{component(out, 1), component(out, 2), component(out, 3)};
+      done = far_faces_.evaluate(cluster, centre, component(0), component(1), component(2), count, component(out),
+                                 &gradient);
+    }
+    far_cluster_runs_ += done ? 1 : 0;
+    return done;
+  }
+
   void run_fused(const LinearFormRun& fused, std::size_t count) {
     if constexpr (std::is_same_v<T, double>)
       linear_form_values(fused.form, component(fused.a), component(fused.b), component(fused.c), component(fused.out),
@@ -474,6 +581,12 @@ class BatchEvaluator {
   std::vector<Step> steps_;
   std::size_t count_ = 0;
   std::vector<double> data_;
+  // Far faces in single precision (set_far_faces), and the batch's box.
+  FarFaces far_faces_;
+  bool far_faces_on_ = false;
+  std::uint64_t far_faces_serial_ = 0;
+  std::size_t far_cluster_runs_ = 0;
+  Box3 box_;
 };
 
 }  // namespace sage
