@@ -35,8 +35,9 @@ int run_field(const std::vector<std::string>& args) {
   add("tolerance", po::value(&tolerance),
       "far-field approximation: parts of the field far from a grid block become polynomial patches, each within "
       "this fraction of the grid box's diagonal (0: exact). Default: 1e-10 for 2D R-function fields (R0, Rp, "
-      "R_alpha), where it pays; exact otherwise");
-  add("exact", "evaluate the whole field at every point (as --tolerance 0)");
+      "R_alpha), where it pays; for meshes' trimmed-face fields, far faces in single precision (the deviation "
+      "measured and printed); exact otherwise");
+  add("exact", "evaluate the whole field at every point in double precision (as --tolerance 0)");
   add("quiet,q", "no progress or summary");
   SourceOptionText source_text;
   add_source_options(options, job.load, source_text);

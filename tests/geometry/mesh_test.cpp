@@ -301,7 +301,7 @@ TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
 // sage field's default for mesh fields: faces far from a batch of points
 // in single precision (far_faces.hpp). R0 is homogeneous of degree 1, so
 // relative errors of the far clusters move the field by the same fraction
-// of its value: within 64 single-precision roundings of |omega| at every
+// of its value: within 8 single-precision roundings of |omega| at every
 // grid point, and the gradient within 1e-4 of its length; no sign changes.
 void check_far_faces(const std::string& file, int points) {
   LoadOptions options;
@@ -332,12 +332,14 @@ void check_far_faces(const std::string& file, int points) {
   std::cout << file << " at " << points << "^3: far faces move omega by at most " << worst
             << " single-precision roundings of |omega|, the gradient by " << worst_gradient << " of its length\n";
   EXPECT_GT(worst, 0);  // single precision ran
-  EXPECT_LT(worst, 64);
+  EXPECT_LT(worst, 8);
   EXPECT_LT(worst_gradient, 1e-4);
 }
 
 TEST(MeshReal, FarFacesStayWithinTheirBoundOnJoint) { check_far_faces("joint.off", 24); }
 TEST(MeshReal, FarFacesStayWithinTheirBoundOnElephant) { check_far_faces("elephant.off", 20); }
+// A machined part (STL) whose field is large against its diagonal.
+TEST(MeshReal, FarFacesStayWithinTheirBoundOnAnStlPart) { check_far_faces("occt_sh1.stl", 20); }
 
 // Where the measured deviation is beyond the limit, the samples are the
 // exact ones (bit for bit), and they say so.

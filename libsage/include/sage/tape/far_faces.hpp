@@ -17,11 +17,11 @@
 // order. Far from its faces, a cluster's value is computed from plane
 // values whose rounding (relative to the box sizes, by the local
 // coordinates) is small against the distance, through operations
-// that do not cancel (R0 of positive values, square roots of sums of
-// squares): delta is a few single-precision roundings (measured on real
-// meshes: at most 2, mesh_test.cpp). Lanes where a value or partial is not
-// finite (an R0 corner, overflow) send the whole cluster back to the
-// doubles.
+// that do not cancel (square roots of sums of squares, and R0 of values
+// >= 0 written without cancellation): delta is a few single-precision
+// roundings (measured on real meshes: at most 1, mesh_test.cpp). Lanes
+// where a value or partial is not finite (an R0 corner, overflow) send the
+// whole cluster back to the doubles.
 
 #include <sage/tape/trimmed_face.hpp>
 
@@ -84,9 +84,10 @@ class FarFaces {
   struct FloatFace {
     std::array<std::array<double, 3>, 4> gradient{};  // of h, then the trimming's three planes
     std::array<double, 4> offset{};                   // their values at the origin
-    double first_sign = -1, second_sign = -1;
-    double scale = 1;  // h's factor inside the fourth power
-    double root_weight = 0.5, t_weight = -0.5;
+    std::array<std::array<float, 3>, 4> single{};     // the gradients in single precision
+    // The first and second R0's signs, h's factor inside the fourth power,
+    // and the trimming's weights of its root and of t.
+    std::array<float, 5> constants{};
   };
   struct Op {
     std::int32_t face = -1;  // >= 0: push the face's value; else R0 of the top two
