@@ -1,7 +1,6 @@
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/pruned_grid.hpp>
 #include <sage/scalars/tuple.hpp>
-
 #include <sage/tape/batch_evaluator.hpp>
 
 #include <algorithm>
