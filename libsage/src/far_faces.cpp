@@ -173,7 +173,7 @@ void FarFaces::build(const std::vector<Step>& steps, const std::vector<std::uint
   faces_.clear();
   program_.clear();
   clusters_.clear();
-  op_of_step_.assign(steps.size(), static_cast<std::size_t>(-1));
+  std::vector<std::size_t> op_of_step(steps.size(), static_cast<std::size_t>(-1));  // index into program_
   largest_at_.assign(steps.size(), -1);
 
   // Candidate clusters, bottom up: a face, or an R0 of two candidates whose
@@ -248,7 +248,7 @@ void FarFaces::build(const std::vector<Step>& steps, const std::vector<std::uint
           node.box.hi[a] = corner == 0 ? v[a] : std::max(node.box.hi[a], v[a]);
         }
       }
-      op_of_step_[i] = program_.size();
+      op_of_step[i] = program_.size();
       program_.push_back({static_cast<std::int32_t>(faces_.size()), 0.0f});
       faces_.push_back(f);
       node_at_root[i] = static_cast<int>(nodes.size());
@@ -275,7 +275,7 @@ void FarFaces::build(const std::vector<Step>& steps, const std::vector<std::uint
           nodes[static_cast<std::size_t>(b)].parent = made;
           nodes.push_back(node);
           node_at_root[i] = made;
-          op_of_step_[i] = program_.size();
+          op_of_step[i] = program_.size();
           program_.push_back({-1, static_cast<float>(s.sign)});
         }
       }
@@ -292,8 +292,8 @@ void FarFaces::build(const std::vector<Step>& steps, const std::vector<std::uint
     c.out = n.out;
     c.box = n.box;
     c.size = diagonal(n.box);
-    c.ops = op_of_step_[n.first];
-    c.op_count = op_of_step_[n.last] - c.ops + 1;
+    c.ops = op_of_step[n.first];
+    c.op_count = op_of_step[n.last] - c.ops + 1;
     clusters_.push_back(c);
   }
   // Chains from the largest cluster at a first step down to the smallest.
@@ -312,7 +312,7 @@ void FarFaces::build(const std::vector<Step>& steps, const std::vector<std::uint
 }
 
 int FarFaces::far_cluster_at(std::size_t step, const Box3& box) const {
-  if (step >= largest_at_.size()) return -1;
+  if (step >= largest_at_.size() || largest_at_[step] < 0) return -1;  // most steps: no square root
   const double box_size = diagonal(box);
   for (int c = largest_at_[step]; c >= 0; c = clusters_[static_cast<std::size_t>(c)].smaller) {
     const Cluster& cluster = clusters_[static_cast<std::size_t>(c)];

@@ -238,39 +238,27 @@ void for_each_grid_point_pruned(const Tape& tape, const Grid& grid, Visit visit,
   for (int a = 0; a < 3; ++a) all.hi[a] = grid.points[a];
   std::atomic<std::size_t> done{0};
   const detail::BlockPlan plan = detail::plan_for(tape, grid, approximation);
-  if (!detail::splits(tape, all, plan) && plan.far_faces) {
-    // Far faces need compact batches: bricks of 8 x 4 x 4 points (a batch
-    // each), in parallel.
-    const std::array<int, 3> brick{8, 4, 4};
-    std::array<int, 3> bricks{};
-    for (int a = 0; a < 3; ++a) bricks[a] = (grid.points[a] + brick[a] - 1) / brick[a];
-    const int total = bricks[0] * bricks[1] * bricks[2];
-#pragma omp parallel for schedule(dynamic, 4)
-    for (int b = 0; b < total; ++b) {
-      detail::GridBlock block;
-      const std::array<int, 3> at{b % bricks[0], (b / bricks[0]) % bricks[1], b / (bricks[0] * bricks[1])};
-      for (int a = 0; a < 3; ++a) {
-        block.lo[a] = at[a] * brick[a];
-        block.hi[a] = std::min(grid.points[a], block.lo[a] + brick[a]);
-      }
-      detail::visit_block<T>(tape, grid, block, visit, detail::kTaskDepth, done, progress, plan);
-    }
-    if (progress) progress(1.0);
-    return;
-  }
   if (!detail::splits(tape, all, plan)) {
     // Nothing to specialize (no min/max node and no far field, or a tape
-    // too short): slabs of whole grid rows, in parallel, each run in
-    // batches as a leaf block is (the same bits as point by point).
-    const int ny = grid.points[1], nz = grid.points[2];
+    // too short): blocks run in parallel, each in batches as a leaf block
+    // is (the same bits as point by point). Slabs of whole grid rows, or,
+    // for far faces, which need compact batches, bricks of 8 x 4 x 4
+    // points (a batch each).
     const int rows_per_slab = std::max(1, static_cast<int>(4096 / std::max(1, grid.points[0])));
-    const int slabs_per_plane = (ny + rows_per_slab - 1) / rows_per_slab;
+    const std::array<int, 3> shape =
+        plan.far_faces ? std::array<int, 3>{8, 4, 4} : std::array<int, 3>{grid.points[0], rows_per_slab, 1};
+    std::array<int, 3> blocks{};
+    for (int a = 0; a < 3; ++a) blocks[a] = (grid.points[a] + shape[a] - 1) / shape[a];
+    const int total = blocks[0] * blocks[1] * blocks[2];
 #pragma omp parallel for schedule(dynamic, 1)
-    for (int s = 0; s < slabs_per_plane * nz; ++s) {
-      detail::GridBlock slab;
-      slab.lo = {0, (s % slabs_per_plane) * rows_per_slab, s / slabs_per_plane};
-      slab.hi = {grid.points[0], std::min(ny, slab.lo[1] + rows_per_slab), slab.lo[2] + 1};
-      detail::visit_block<T>(tape, grid, slab, visit, detail::kTaskDepth, done, progress, plan);
+    for (int b = 0; b < total; ++b) {
+      detail::GridBlock block;
+      const std::array<int, 3> at{b % blocks[0], (b / blocks[0]) % blocks[1], b / (blocks[0] * blocks[1])};
+      for (int a = 0; a < 3; ++a) {
+        block.lo[a] = at[a] * shape[a];
+        block.hi[a] = std::min(grid.points[a], block.lo[a] + shape[a]);
+      }
+      detail::visit_block<T>(tape, grid, block, visit, detail::kTaskDepth, done, progress, plan);
     }
     if (progress) progress(1.0);
     return;

@@ -93,15 +93,6 @@ class BatchEvaluator {
     for (int v = 0; v < tape_->dimension(); ++v)
       for (std::size_t l = 0; l < count; ++l)
         store(static_cast<std::uint32_t>(v), l, Seed<T>::variable(v, points[l][v]));
-    if (far_faces_on_) {
-      for (int a = 0; a < 3; ++a) {
-        box_.lo[a] = box_.hi[a] = count > 0 ? points[0][a] : 0.0;
-        for (std::size_t l = 0; l < count; ++l) {
-          box_.lo[a] = std::min(box_.lo[a], points[l][a]);
-          box_.hi[a] = std::max(box_.hi[a], points[l][a]);
-        }
-      }
-    }
     run(nullptr);
   }
 
@@ -117,18 +108,6 @@ class BatchEvaluator {
         for (std::size_t i = 0; i < nx; ++i)
           store(static_cast<std::uint32_t>(v), r * nx + i,
                 Seed<T>::variable(v, v == 0 ? xs[i] : rows[r][static_cast<std::size_t>(v - 1)]));
-    if (far_faces_on_ && nx > 0 && row_count > 0) {
-      box_.lo[0] = *std::min_element(xs, xs + nx);
-      box_.hi[0] = *std::max_element(xs, xs + nx);
-      for (int a = 1; a < 3; ++a) {
-        const auto k = static_cast<std::size_t>(a - 1);
-        box_.lo[a] = box_.hi[a] = rows[0][k];
-        for (std::size_t r = 0; r < row_count; ++r) {
-          box_.lo[a] = std::min(box_.lo[a], rows[r][k]);
-          box_.hi[a] = std::max(box_.hi[a], rows[r][k]);
-        }
-      }
-    }
     const Rows layout{xs, nx, rows, row_count};
     run(&layout);
   }
@@ -193,6 +172,8 @@ class BatchEvaluator {
   void run(const Rows* layout) {
     const std::size_t count = count_;
     const std::size_t steps = steps_.size();
+    if constexpr (kLinearForms)
+      if (far_faces_on_) bound_batch(count);
     for (std::size_t i = 0; i < steps; ++i) {
       const Instruction& ins = steps_[i].instruction;
       if constexpr (kLinearForms) {
@@ -488,6 +469,18 @@ class BatchEvaluator {
     }
     far_faces_.build(view, tape_->results());
     far_faces_serial_ = serial_;
+  }
+
+  // box_ = the box of the batch's points (their x, y, z registers' values).
+  void bound_batch(std::size_t count) {
+    for (int a = 0; a < 3; ++a) {
+      const double* v = component(static_cast<std::uint32_t>(a));
+      box_.lo[a] = box_.hi[a] = count > 0 ? v[0] : 0.0;
+      for (std::size_t l = 0; l < count; ++l) {
+        box_.lo[a] = std::min(box_.lo[a], v[l]);
+        box_.hi[a] = std::max(box_.hi[a], v[l]);
+      }
+    }
   }
 
   // The cluster in single precision into its register; false (and nothing

@@ -103,8 +103,7 @@ class FarFaces {
     std::size_t op_count = 0;
   };
   std::vector<FloatFace> faces_;
-  std::vector<Op> program_;              // by step: a face or a glue
-  std::vector<std::size_t> op_of_step_;  // index into program_, or -1
+  std::vector<Op> program_;  // by step: a face or a glue
   std::vector<Cluster> clusters_;
   std::vector<int> largest_at_;  // by step: the largest cluster starting there, or -1
 };
