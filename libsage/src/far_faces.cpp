@@ -54,59 +54,106 @@ struct Slot {
   alignas(64) float c[4][kLanes];
 };
 
+// The intermediate values of a face at every lane (face_lanes).
+struct FaceStages {
+  alignas(64) float h[kLanes], s1[kLanes], s2[kLanes], s3[kLanes];
+  alignas(64) float r1[kLanes], u[kLanes], r2[kLanes], t[kLanes], root[kLanes], m[kLanes];
+};
+
 // The face at every lane: w = sqrt(h^2 + (R p + t q)^2), R = sqrt(t^2 +
-// (c h)^4), t = (s1 AND s2) AND s3 by R0, and its partials by the chain
-// rule through the planes (whose gradients are constant).
-// g: the planes' gradients, o: their values at the centre (q = 0),
-// constants: FloatFace's.
-template <bool Gradient>
+// (c h)^4), t = (s1 AND s2) AND s3 by R0 (signs E1, E2: -1 conjunction),
+// and its partials by the chain rule through the planes (whose gradients
+// are constant). g: the planes' gradients, o: their values at the centre
+// (q = 0), constants: FloatFace's.
+//
+// Why in stages, a loop each: the value is a chain of four square roots,
+// and in one loop the vector units waited on it (the processor holds too
+// few operations in flight to overlap several lanes' chains); each stage's
+// loop has a short chain and independent lanes. The signs are template
+// arguments (R0's +-r are additions), and the four reciprocals come from
+// two divisions.
+template <bool Gradient, int E1, int E2>
 SAGE_VECTOR_CLONES void face_lanes(const std::array<std::array<float, 3>, 4>& g, const std::array<float, 4>& o,
                                    const std::array<float, 5>& constants, const float* __restrict qx,
                                    const float* __restrict qy, const float* __restrict qz, std::size_t count,
-                                   Slot& out) {
+                                   FaceStages& __restrict f, Slot& __restrict out) {
   const float g00 = g[0][0], g01 = g[0][1], g02 = g[0][2], o0 = o[0];
   const float g10 = g[1][0], g11 = g[1][1], g12 = g[1][2], o1 = o[1];
   const float g20 = g[2][0], g21 = g[2][1], g22 = g[2][2], o2 = o[2];
   const float g30 = g[3][0], g31 = g[3][1], g32 = g[3][2], o3 = o[3];
-  const float e1 = constants[0], e2 = constants[1], c = constants[2], p = constants[3], q = constants[4];
-  for (std::size_t l = 0; l < count; ++l) {
+  const float c = constants[2], p = constants[3], q = constants[4];
+  for (std::size_t l = 0; l < count; ++l) {  // the planes, and R0's root of the first two sides
     const float x = qx[l], y = qy[l], z = qz[l];
-    const float h = g00 * x + g01 * y + g02 * z + o0;
-    const float s1 = g10 * x + g11 * y + g12 * z + o1;
-    const float s2 = g20 * x + g21 * y + g22 * z + o2;
-    const float s3 = g30 * x + g31 * y + g32 * z + o3;
-    const float r1 = std::sqrt(s1 * s1 + s2 * s2);
-    const float u = s1 + s2 + e1 * r1;
-    const float r2 = std::sqrt(u * u + s3 * s3);
-    const float t = u + s3 + e2 * r2;
-    const float hc = h * c, hc2 = hc * hc;
-    const float root = std::sqrt(t * t + hc2 * hc2);
-    const float m = root * p + t * q;
-    const float w = std::sqrt(h * h + m * m);
-    out.c[0][l] = w;
-    if constexpr (Gradient) {
-      // One division for the four reciprocals; a product out of the normal
-      // range makes the lane's partials infinite or NaN, and the doubles
-      // redo the cluster.
-      const float root_w = root * w, r12 = r1 * r2, product = root_w * r12;
-      std::uint32_t bits;
-      std::memcpy(&bits, &product, sizeof bits);
-      const std::uint32_t exponent = (bits >> 23) & 0xffu;  // 1 to 254: a normal number
-      const float inverse_all = exponent - 1u < 254u ? 1.0f / product : std::numeric_limits<float>::infinity();
-      const float inverse_root = inverse_all * (w * r12), inverse_w = inverse_all * (root * r12);
-      const float inverse_r1 = inverse_all * (root_w * r2), inverse_r2 = inverse_all * (root_w * r1);
-      const float dm_dh = p * (2.0f * hc2 * hc * c) * inverse_root;
-      const float dm_dt = p * t * inverse_root + q;
-      const float dw_dh = (h + m * dm_dh) * inverse_w;
-      const float dw_dt = m * dm_dt * inverse_w;
-      const float dt_du = 1.0f + e2 * u * inverse_r2, dt_ds3 = 1.0f + e2 * s3 * inverse_r2;
-      const float du_ds1 = 1.0f + e1 * s1 * inverse_r1, du_ds2 = 1.0f + e1 * s2 * inverse_r1;
-      const float a3 = dw_dt * dt_ds3, a1 = dw_dt * dt_du * du_ds1, a2 = dw_dt * dt_du * du_ds2;
-      out.c[1][l] = dw_dh * g00 + a1 * g10 + a2 * g20 + a3 * g30;
-      out.c[2][l] = dw_dh * g01 + a1 * g11 + a2 * g21 + a3 * g31;
-      out.c[3][l] = dw_dh * g02 + a1 * g12 + a2 * g22 + a3 * g32;
-    }
+    const float s1 = g10 * x + g11 * y + g12 * z + o1, s2 = g20 * x + g21 * y + g22 * z + o2;
+    f.h[l] = g00 * x + g01 * y + g02 * z + o0;
+    f.s1[l] = s1;
+    f.s2[l] = s2;
+    f.s3[l] = g30 * x + g31 * y + g32 * z + o3;
+    f.r1[l] = std::sqrt(s1 * s1 + s2 * s2);
   }
+  for (std::size_t l = 0; l < count; ++l) {  // u = s1 AND/OR s2, and R0's root of u and s3
+    const float u = E1 > 0 ? (f.s1[l] + f.s2[l]) + f.r1[l] : (f.s1[l] + f.s2[l]) - f.r1[l];
+    f.u[l] = u;
+    f.r2[l] = std::sqrt(u * u + f.s3[l] * f.s3[l]);
+  }
+  for (std::size_t l = 0; l < count; ++l) {  // t = u AND/OR s3, and R
+    const float t = E2 > 0 ? (f.u[l] + f.s3[l]) + f.r2[l] : (f.u[l] + f.s3[l]) - f.r2[l];
+    const float hc = f.h[l] * c, hc2 = hc * hc;
+    f.t[l] = t;
+    f.root[l] = std::sqrt(t * t + hc2 * hc2);
+  }
+  for (std::size_t l = 0; l < count; ++l) {  // the value
+    const float m = f.root[l] * p + f.t[l] * q, h = f.h[l];
+    f.m[l] = m;
+    out.c[0][l] = std::sqrt(h * h + m * m);
+  }
+  if constexpr (!Gradient) return;
+  const float dr_factor = 2.0f * p * c;  // dm/dh = p dR/dh = 2 p c (c h)^3 / R
+  constexpr float e1 = E1, e2 = E2;
+  for (std::size_t l = 0; l < count; ++l) {
+    const float h = f.h[l], u = f.u[l], t = f.t[l], m = f.m[l], w = out.c[0][l];
+    const float root = f.root[l], r1 = f.r1[l], r2 = f.r2[l];
+    // A product out of the normal range (or not finite) makes the lane's
+    // reciprocals infinite: its partials are then not finite, and the
+    // doubles redo the cluster.
+    const float outer = root * w, inner = r1 * r2;
+    const bool normal = std::min(outer, inner) >= std::numeric_limits<float>::min();
+    const float inverse_outer = normal ? 1.0f / outer : std::numeric_limits<float>::infinity();
+    const float inverse_inner = 1.0f / inner;
+    const float inverse_root = inverse_outer * w, inverse_w = inverse_outer * root;
+    const float inverse_r1 = inverse_inner * r2, inverse_r2 = inverse_inner * r1;
+    const float hc = h * c;
+    const float dm_dh = dr_factor * (hc * hc * hc) * inverse_root;
+    const float dm_dt = (p * t) * inverse_root + q;
+    const float m_w = m * inverse_w;
+    const float dw_dh = m_w * dm_dh + h * inverse_w;
+    const float dw_dt = m_w * dm_dt;
+    // dw/du = dw/dt (1 + e2 u / r2), dw/ds3 = dw/dt (1 + e2 s3 / r2), and
+    // so on down to s1 and s2.
+    const float by_r2 = dw_dt * (e2 * inverse_r2);
+    const float dw_du = u * by_r2 + dw_dt, a3 = f.s3[l] * by_r2 + dw_dt;
+    const float by_r1 = dw_du * (e1 * inverse_r1);
+    const float a1 = f.s1[l] * by_r1 + dw_du, a2 = f.s2[l] * by_r1 + dw_du;
+    out.c[1][l] = dw_dh * g00 + a1 * g10 + a2 * g20 + a3 * g30;
+    out.c[2][l] = dw_dh * g01 + a1 * g11 + a2 * g21 + a3 * g31;
+    out.c[3][l] = dw_dh * g02 + a1 * g12 + a2 * g22 + a3 * g32;
+  }
+}
+
+// face_lanes with the face's signs as template arguments.
+template <bool Gradient>
+void face_lanes(const std::array<std::array<float, 3>, 4>& g, const std::array<float, 4>& o,
+                const std::array<float, 5>& constants, const float* qx, const float* qy, const float* qz,
+                std::size_t count, FaceStages& stages, Slot& out) {
+  const bool or1 = constants[0] > 0, or2 = constants[1] > 0;
+  if (or1 && or2)
+    face_lanes<Gradient, 1, 1>(g, o, constants, qx, qy, qz, count, stages, out);
+  else if (or1)
+    face_lanes<Gradient, 1, -1>(g, o, constants, qx, qy, qz, count, stages, out);
+  else if (or2)
+    face_lanes<Gradient, -1, 1>(g, o, constants, qx, qy, qz, count, stages, out);
+  else
+    face_lanes<Gradient, -1, -1>(g, o, constants, qx, qy, qz, count, stages, out);
 }
 
 // a = a AND b (sign -1) or a OR b (+1) by R0, lane by lane, of values
@@ -115,21 +162,30 @@ SAGE_VECTOR_CLONES void face_lanes(const std::array<std::array<float, 3>, 4>& g,
 // that costs x + y - r relative accuracy where x >> y (single precision's
 // 6e-8 times x / y; the field then missed 1e-9 of the diagonal on a 3,290
 // triangle STL part).
-template <bool Gradient>
-SAGE_VECTOR_CLONES void glue_lanes(Slot& a, const Slot& b, float sign, std::size_t count) {
+template <bool Gradient, int Sign>
+SAGE_VECTOR_CLONES void glue_lanes(Slot& a, const Slot& b, std::size_t count) {
+  constexpr float sign = Sign;
   for (std::size_t l = 0; l < count; ++l) {
     const float x = a.c[0][l], y = b.c[0][l];
     const float r = std::sqrt(x * x + y * y), sum = x + y + r;
     if constexpr (Gradient) {
       const float inverse = 1.0f / (r * sum);  // 1 / r and 1 / sum in one division
-      a.c[0][l] = sign < 0 ? 2.0f * x * y * (r * inverse) : sum;
-      const float inverse_r = sum * inverse;
-      const float dx = 1.0f + sign * x * inverse_r, dy = 1.0f + sign * y * inverse_r;
+      a.c[0][l] = Sign < 0 ? 2.0f * x * y * (r * inverse) : sum;
+      const float by_r = sign * (sum * inverse);
+      const float dx = x * by_r + 1.0f, dy = y * by_r + 1.0f;
       for (int k = 1; k <= 3; ++k) a.c[k][l] = dx * a.c[k][l] + dy * b.c[k][l];
     } else {
-      a.c[0][l] = sign < 0 ? 2.0f * x * y / sum : sum;
+      a.c[0][l] = Sign < 0 ? 2.0f * x * y / sum : sum;
     }
   }
+}
+
+template <bool Gradient>
+void glue_lanes(Slot& a, const Slot& b, float sign, std::size_t count) {
+  if (sign < 0)
+    glue_lanes<Gradient, -1>(a, b, count);
+  else
+    glue_lanes<Gradient, 1>(a, b, count);
 }
 
 // Whether a float is finite, from its bits (one integer test per lane).
@@ -327,6 +383,7 @@ bool FarFaces::evaluate(int cluster, const std::array<double, 3>& centre, const 
   if (count > kMaxLanes) return false;
   const Cluster& c = clusters_[static_cast<std::size_t>(cluster)];
   thread_local std::vector<Slot> stack;
+  thread_local FaceStages stages;
   alignas(64) float qx[kLanes], qy[kLanes], qz[kLanes];
   for (std::size_t l = 0; l < count; ++l) {
     qx[l] = static_cast<float>(x[l] - centre[0]);
@@ -346,9 +403,9 @@ bool FarFaces::evaluate(int cluster, const std::array<double, 3>& centre, const 
                                           f.gradient[j][2] * centre[2]);
       if (stack.size() <= top) stack.resize(top + 1);
       if (gradient)
-        face_lanes<true>(f.single, at_centre, f.constants, qx, qy, qz, count, stack[top]);
+        face_lanes<true>(f.single, at_centre, f.constants, qx, qy, qz, count, stages, stack[top]);
       else
-        face_lanes<false>(f.single, at_centre, f.constants, qx, qy, qz, count, stack[top]);
+        face_lanes<false>(f.single, at_centre, f.constants, qx, qy, qz, count, stages, stack[top]);
       ++top;
     } else {
       if (gradient)

@@ -49,8 +49,9 @@ class BatchEvaluator {
   /// registers for each cost more than running them).
   void rebind(const Tape& tape, std::size_t width) {
     // Grid slabs rebind the same tape again and again: its constants' lanes
-    // (a mesh field has tens of thousands) and fused runs are in place.
-    if (tape_ && tape.serial() == serial_ && width == width_) {
+    // (a mesh field has tens of thousands), fused runs and far faces are in
+    // place, also for narrower batches (a grid's edge blocks).
+    if (tape_ && tape.serial() == serial_ && width <= width_) {
       tape_ = &tape;
       return;
     }
