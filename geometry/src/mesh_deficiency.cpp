@@ -223,7 +223,8 @@ class Decomposition {
     std::vector<std::size_t> inside(planes.size(), SIZE_MAX);
     for (std::size_t g = 0; g < planes.size(); ++g) {
       const auto& p = planes[g];
-      for (std::size_t v : vertices) switch (CGAL::orientation(p[0], p[1], p[2], points_[v])) {
+      const FilteredOrientation side(p[0], p[1], p[2]);
+      for (std::size_t v : vertices) switch (side(points_[v])) {
           case CGAL::COPLANAR: on_plane[v].push_back(g); break;
           case CGAL::NEGATIVE: inside[g] = v; break;
           default:
