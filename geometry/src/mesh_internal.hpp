@@ -52,20 +52,25 @@ class FilteredOrientation {
   }
 
   CGAL::Orientation operator()(const Point& s) const {
+    const std::optional<CGAL::Orientation> sign = filtered(s);
+    return sign ? *sign : CGAL::orientation(p_, q_, r_, s);
+  }
+
+  /// The sign where the floating-point test decides it, else nothing.
+  std::optional<CGAL::Orientation> filtered(const Point& s) const {
     const double psx = s.x() - p_.x(), psy = s.y() - p_.y(), psz = s.z() - p_.z();
     const double mx = std::max(max_[0], std::fabs(psx)), my = std::max(max_[1], std::fabs(psy)),
                  mz = std::max(max_[2], std::fabs(psz));
     const double smallest = std::min({mx, my, mz}), largest = std::max({mx, my, mz});
-    if (smallest > 1e-90 && largest < 1e100) {  // no underflow or overflow in the bound
-      const double det = n_[0] * psx + n_[1] * psy + n_[2] * psz, bound = 1e-13 * mx * my * mz;
-      if (det > bound) return CGAL::POSITIVE;
-      if (det < -bound) return CGAL::NEGATIVE;
-    }
-    return CGAL::orientation(p_, q_, r_, s);
+    if (!(smallest > 1e-90 && largest < 1e100)) return std::nullopt;  // the bound could underflow or overflow
+    const double det = n_[0] * psx + n_[1] * psy + n_[2] * psz, bound = 1e-13 * mx * my * mz;
+    if (det > bound) return CGAL::POSITIVE;
+    if (det < -bound) return CGAL::NEGATIVE;
+    return std::nullopt;
   }
 
  private:
-  const Point &p_, &q_, &r_;
+  Point p_, q_, r_;
   std::array<double, 3> n_{}, max_{};
 };
 

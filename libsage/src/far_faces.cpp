@@ -117,9 +117,10 @@ SAGE_VECTOR_CLONES void face_lanes(const std::array<std::array<float, 3>, 4>& g,
     // reciprocals infinite: its partials are then not finite, and the
     // doubles redo the cluster.
     const float outer = root * w, inner = r1 * r2;
-    const bool normal = std::min(outer, inner) >= std::numeric_limits<float>::min();
-    const float inverse_outer = normal ? 1.0f / outer : std::numeric_limits<float>::infinity();
-    const float inverse_inner = 1.0f / inner;
+    const bool normal = std::min(outer, inner) >= std::numeric_limits<float>::min() &&
+                        std::max(outer, inner) <= std::numeric_limits<float>::max();
+    const float infinity = std::numeric_limits<float>::infinity();
+    const float inverse_outer = normal ? 1.0f / outer : infinity, inverse_inner = normal ? 1.0f / inner : infinity;
     const float inverse_root = inverse_outer * w, inverse_w = inverse_outer * root;
     const float inverse_r1 = inverse_inner * r2, inverse_r2 = inverse_inner * r1;
     const float hc = h * c;

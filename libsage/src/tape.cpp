@@ -14,7 +14,7 @@ namespace {
 // Node -> position in the tape's order, by open addressing (linear probing
 // over a power-of-two table). A large mesh's field has millions of nodes:
 // std::unordered_map's allocation per entry and rehashing made up most of
-// Tape::Tape (bunny00, 2.1M instructions: 5 s of a 6 s build).
+// Tape::Tape (bunny00, 2.1M instructions: this table took 2 s off it).
 class NodePositions {
  public:
   static constexpr std::uint32_t kNone = UINT32_MAX;

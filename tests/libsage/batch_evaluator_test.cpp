@@ -674,6 +674,37 @@ TEST(BatchEvaluator, FarFacesRunInSinglePrecisionNearTheDoubles) {
   EXPECT_EQ(far.far_cluster_runs(), runs);
 }
 
+// Faces whose trimming has disjunctions too (a mesh's triangles have
+// conjunctions only): each pair of R0 signs runs a kernel of its own.
+TEST(BatchEvaluator, FarFacesOfEverySignPairRunNearTheDoubles) {
+  const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
+  const RSystem r0 = RSystem::r0();
+  auto glue = [&](bool disjunction, const Expr& a, const Expr& b) {
+    return disjunction ? r_or(a, b, r0) : r_and(a, b, r0);
+  };
+  const double epsilon = std::numeric_limits<float>::epsilon();
+  for (const bool first_or : {false, true})
+    for (const bool second_or : {false, true}) {
+      const Tape tape(
+          trim_smooth(z * -1.0 + 0.5, glue(second_or, y + 0.75, glue(first_or, x * 0.6 + y * 0.8, x * -0.8 + y * 0.6))),
+          3);
+      BatchEvaluator<Tuple<3, 1>> exact(tape, 128), far(tape, 128);
+      far.set_far_faces(true);
+      Points points = random_points(128, 11, -0.2, 0.2);
+      for (auto& p : points) p = {p[0] + 3.0, p[1] - 2.0, p[2] + 10.0};
+      exact.evaluate(points.data(), points.size());
+      far.evaluate(points.data(), points.size());
+      ASSERT_EQ(far.far_cluster_runs(), 1u) << "signs " << first_or << second_or;
+      for (std::size_t l = 0; l < points.size(); ++l) {
+        const Tuple<3, 1> want = exact.result(l), got = far.result(l);
+        EXPECT_NEAR(got.value(), want.value(), 8 * epsilon * want.value()) << first_or << second_or << l;
+        const auto gw = want.gradient(), gg = got.gradient();
+        EXPECT_LT(std::hypot(gg[0] - gw[0], gg[1] - gw[1], gg[2] - gw[2]), 1e-4 * std::hypot(gw[0], gw[1], gw[2]))
+            << first_or << second_or << l;
+      }
+    }
+}
+
 // A glue of two values far apart in size: 256 faces close together (their
 // R0 conjunction far smaller than any of them) and one more face. In
 // single precision x + y - sqrt(x^2 + y^2) would lose x / y roundings;
@@ -729,6 +760,7 @@ TEST(BatchEvaluator, NarrowerBatchesOfTheSameTapeKeepTheirLayout) {
   for (auto& p : points) p[2] += 30.0;
   reused.evaluate(points.data(), points.size());
   reused.rebind(tape, 50);
+  EXPECT_EQ(reused.width(), 128u);  // the registers' layout kept
   points.resize(50);
   reused.evaluate(points.data(), points.size());
   narrow.evaluate(points.data(), points.size());

@@ -71,6 +71,8 @@ class BatchEvaluator {
     if (far_faces_on_) set_far_faces(true);
   }
 
+  /// The largest batch: the registers' storage (rebinding the same tape to
+  /// a narrower batch keeps it).
   std::size_t width() const { return width_; }
 
   /// Whether clusters of mesh faces far from a batch's points run in single
