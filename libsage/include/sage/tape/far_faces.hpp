@@ -37,7 +37,7 @@ struct Box3 {
   std::array<double, 3> lo{}, hi{};
 };
 
-/// Whether `tape` has enough fused mesh faces (3D, at least 64) for far
+/// Whether `tape` has enough fused mesh faces (3D, at least 1,024) for far
 /// faces to pay: sage field's default for such tapes.
 bool far_faces_pay(const Tape& tape);
 
