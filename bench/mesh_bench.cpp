@@ -9,6 +9,8 @@
 //
 // Usage: mesh_bench [MESH] [N] [RFUNCTION ...]   (defaults: bunny00.off, 128, minmax r0)
 
+#include "mesh_grid.hpp"
+
 #include <sage/geometry/mesh_model.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/grid.hpp>
@@ -92,11 +94,7 @@ int main(int argc, char** argv) {
     const double t_build = seconds(start);
     const sage::Tape tape(model.field, 3);
 
-    sage::Grid grid;
-    grid.dimension = 3;
-    grid.lo = model.bounds->min;
-    grid.hi = model.bounds->max;
-    grid.points = {n, n, n};
+    const sage::Grid grid = sage::bench::mesh_grid(model, n);
     if (model.rfunction.kind == sage::RKind::MinMax) {
       std::printf("%-8s tape left after specializing (of %zu instructions):\n", name.c_str(), tape.code().size());
       for (double fraction : {0.5, 0.3, 0.1}) print_shrinking(tape, grid, fraction);

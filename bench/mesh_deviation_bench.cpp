@@ -9,6 +9,8 @@
 //
 // Usage: mesh_deviation_bench N MESH...   (an N^3 grid over each mesh's box)
 
+#include "mesh_grid.hpp"
+
 #include <sage/geometry/mesh_model.hpp>
 #include <sage/sampling/far_field.hpp>
 #include <sage/sampling/field_samples.hpp>
@@ -39,11 +41,7 @@ int main(int argc, char** argv) {
     const std::string path = argv[m];
     const sage::geometry::Model model = sage::geometry::load_mesh(path, {});  // sage field's defaults
     const sage::Tape tape(model.field, 3);
-    sage::Grid grid;
-    grid.dimension = 3;
-    grid.lo = model.bounds->min;
-    grid.hi = model.bounds->max;
-    grid.points = {n, n, n};
+    const sage::Grid grid = sage::bench::mesh_grid(model, n);
 
     sage::Approximation approximation;  // sage field's default for meshes
     approximation.far_faces = sage::far_faces_pay(tape);

@@ -179,7 +179,9 @@ Tape::Tape(const std::vector<Expr>& roots, int dimension) : dimension_(dimension
       const Node* a = arg(e, k);
       const bool duplicate = k == 1 && a == arg(e, 0);
       const bool fixed = a->op == Op::Const || a->op == Op::VarX || a->op == Op::VarY || a->op == Op::VarZ;
-      if (!duplicate && !fixed && last_use[at(a)] == i) free_registers.push_back(reg[at(a)]);
+      if (duplicate || fixed) continue;
+      const std::size_t position_of_a = at(a);
+      if (last_use[position_of_a] == i) free_registers.push_back(reg[position_of_a]);
     }
     ins.out = allocate();
     reg[i] = ins.out;
