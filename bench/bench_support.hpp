@@ -1,6 +1,9 @@
 #pragma once
 // Small helpers shared by the benchmark programs.
 
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -17,5 +20,22 @@ inline double peak_megabytes() {
     if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
   return 0.0;
 }
+
+#ifdef SAGE_SOURCE_DIR
+/// A file of the project's data collection, ../shared/data beside the
+/// checkout: on the development machines and in CI, not in a user's clone.
+/// Ends the program with a message naming the path when it is missing.
+inline std::string shared_data(const std::string& relative) {
+  const std::filesystem::path path = std::filesystem::path(SAGE_SOURCE_DIR) / "../shared/data" / relative;
+  if (!std::filesystem::exists(path)) {
+    std::fprintf(stderr,
+                 "%s is missing: this benchmark reads the project's data collection (../shared/data beside the "
+                 "checkout); give the file's path on the command line instead\n",
+                 path.lexically_normal().c_str());
+    std::exit(2);
+  }
+  return path.lexically_normal().string();
+}
+#endif
 
 }  // namespace sage::bench

@@ -13,6 +13,8 @@
 //        ../shared, joint.off; "balls": 1,000 random balls united by R0
 //        and by min/max, written as JSON models to the temporary folder.
 
+#include "bench_support.hpp"
+
 #include <sage/geometry/model.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/tape/tape.hpp>
@@ -133,11 +135,10 @@ int main(int argc, char** argv) {
     for (const auto& entry : std::filesystem::directory_iterator(source / "examples/models"))
       if (entry.path().extension() == ".json") models.push_back(entry.path().string());
     std::sort(models.begin(), models.end());
-    const std::filesystem::path shared = source / "../shared/data";
     for (const char* name :
          {"gis/washington_island_wi_osm_EPSG3070.geojson", "gis/door_county_wi_us-atlas.geojson",
           "gis/lake_vanern_se_osm_EPSG32633.geojson", "gis/wisconsin_us-atlas_EPSG3070.geojson", "meshes/joint.off"})
-      models.push_back((shared / name).string());
+      models.push_back(sage::bench::shared_data(name));
   }
   std::printf(
       "Grids %d^2 and %d^3, all cores, order %d; deviations over the whole grid: value / diagonal,\n"

@@ -17,6 +17,8 @@
 //        the M x M parts to the fields whose names contain it; CHECKS
 //        random grid points for the deviation, default 2000)
 
+#include "bench_support.hpp"
+
 #include <sage/expression/primitives.hpp>
 #include <sage/geometry/gis_reader.hpp>
 #include <sage/geometry/polygon_brep.hpp>
@@ -99,8 +101,7 @@ Deviation measure_deviation(const sage::Expr& field, const sage::FieldSamples& s
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  const std::string path =
-      argc > 1 ? argv[1] : std::string(SAGE_SOURCE_DIR) + "/../shared/data/gis/greenland_ne10m_EPSG3413.geojson";
+  const std::string path = argc > 1 ? argv[1] : sage::bench::shared_data("gis/greenland_ne10m_EPSG3413.geojson");
   const int n = argc > 2 ? std::stoi(argv[2]) : 64;
   const int m = argc > 3 ? std::stoi(argv[3]) : 1000;
   const double relative_tolerance = argc > 4 ? std::stod(argv[4]) : 1e-10;

@@ -9,6 +9,7 @@
 //
 // Usage: mesh_bench [MESH] [N] [RFUNCTION ...]   (defaults: bunny00.off, 128, minmax r0)
 
+#include "bench_support.hpp"
 #include "mesh_grid.hpp"
 
 #include <sage/geometry/mesh_model.hpp>
@@ -76,7 +77,7 @@ void print_shrinking(const sage::Tape& tape, const sage::Grid& grid, double frac
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  const std::string path = argc > 1 ? argv[1] : std::string(SAGE_SOURCE_DIR) + "/../shared/data/meshes/bunny00.off";
+  const std::string path = argc > 1 ? argv[1] : sage::bench::shared_data("meshes/bunny00.off");
   const int n = argc > 2 ? std::stoi(argv[2]) : 128;
   std::vector<std::string> systems;
   for (int i = 3; i < argc; ++i) systems.emplace_back(argv[i]);

@@ -40,7 +40,7 @@ using namespace sage::solver;
 using sage::bench::peak_megabytes;
 using sage::bench::reset_peak;
 
-std::string shared(const std::string& name) { return std::string(SAGE_SOURCE_DIR) + "/../shared/data/" + name; }
+std::string shared(const std::string& name) { return sage::bench::shared_data(name); }
 
 PoissonProblem zero_dirichlet(const geometry::Model& model) {
   PoissonProblem p;

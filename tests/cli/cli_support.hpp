@@ -1,6 +1,6 @@
 #pragma once
 // Running the `sage` program from tests: exit code and all output, and
-// scratch files under the system's temporary folder.
+// scratch files in the test process's own temporary folder.
 
 #include <sys/wait.h>
 
@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <test_files.hpp>
 
 namespace sage_cli_test {
 
@@ -30,11 +32,7 @@ inline Result run(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
-inline fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "sage_cli_test";
-  fs::create_directories(dir);
-  return dir / name;
-}
+inline fs::path scratch(const std::string& name) { return sage::test::scratch_dir() / name; }
 
 inline std::string write_file(const std::string& name, const std::string& text) {
   const fs::path p = scratch(name);

@@ -31,6 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using namespace sage_cli_test;
+using sage::test::test_data;
 
 std::string model(const std::string& name) { return std::string(SAGE_SOURCE_DIR) + "/examples/models/" + name; }
 
@@ -236,12 +237,10 @@ TEST(CliErrors, FieldOutsideItsDomainIsReportedNotWritten) {
 
 namespace {
 
-std::string shared_data(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/" + name; }
-
 TEST(CliGeometry, GeoJsonFieldAndInfoReportTheProjection) {
   const fs::path out = scratch("island.vtu");
   const Result r =
-      run("field " + shared_data("gis/washington_island_wi_osm.geojson") + " -o " + out.string() + " --grid 40x40 -q");
+      run("field " + test_data("gis/washington_island_wi_osm.geojson") + " -o " + out.string() + " --grid 40x40 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   vtkNew<vtkXMLUnstructuredGridReader> reader;
   reader->SetFileName(out.c_str());
@@ -252,7 +251,7 @@ TEST(CliGeometry, GeoJsonFieldAndInfoReportTheProjection) {
   omega->GetRange(range);
   EXPECT_LT(range[0], 0.0);  // the grid covers water and land
   EXPECT_GT(range[1], 0.0);
-  const Result info = run("info " + shared_data("gis/washington_island_wi_osm.geojson"));
+  const Result info = run("info " + test_data("gis/washington_island_wi_osm.geojson"));
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("azimuthal equidistant"), std::string::npos) << info.output;
   EXPECT_NE(info.output.find("certified well-formed"), std::string::npos) << info.output;
@@ -262,7 +261,7 @@ TEST(CliGeometry, GeoJsonFieldAndInfoReportTheProjection) {
 // it in the file; --exact evaluates exactly. Both agree within the stated
 // tolerance and in sign.
 TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
-  const std::string lake = shared_data("gis/lake_vanern_se_osm_EPSG32633.geojson");
+  const std::string lake = test_data("gis/lake_vanern_se_osm_EPSG32633.geojson");
   struct Sampled {
     std::string evaluation;
     double tolerance = -1;
@@ -308,13 +307,13 @@ TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
 }
 
 TEST(CliGeometry, ShapefileWhereAndBrep) {
-  const Result r = run("info " + shared_data("gis/shapefile_nc/nc.shp") + " --where \"NAME = 'Ashe'\" --method brep");
+  const Result r = run("info " + test_data("gis/shapefile_nc/nc.shp") + " --where \"NAME = 'Ashe'\" --method brep");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("trimmed-edge B-rep"), std::string::npos) << r.output;
 }
 
 TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
-  expect_failure("info " + shared_data("gis/greece_ne10m.geojson"), {"greece_ne10m.geojson", "vertex", "--repair"});
+  expect_failure("info " + test_data("gis/greece_ne10m.geojson"), {"greece_ne10m.geojson", "vertex", "--repair"});
 }
 
 // A mesh's trimmed-face field: far faces in single precision by default
@@ -323,7 +322,7 @@ TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
 // exactly (joint, 446).
 TEST(CliGeometry, MeshField) {
   const fs::path out = scratch("joint.vti");
-  const Result r = run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 10x10x10 -q");
+  const Result r = run("field " + test_data("meshes/joint.off") + " -o " + out.string() + " --grid 10x10x10 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_GT(fs::file_size(out), 0u);
   auto evaluation = [](const fs::path& file, double& deviation) {
@@ -336,7 +335,7 @@ TEST(CliGeometry, MeshField) {
     auto* e = vtkStringArray::SafeDownCast(field->GetAbstractArray("evaluation"));
     return e ? e->GetValue(0) : std::string();
   };
-  const std::string part = shared_data("meshes/occt_sh1.stl");
+  const std::string part = test_data("meshes/occt_sh1.stl");
   const Result fast = run("field " + part + " -o " + out.string() + " --grid 16x16x16");
   EXPECT_NE(fast.output.find("far mesh faces in single precision"), std::string::npos) << fast.output;
   double deviation = -1;
@@ -347,7 +346,7 @@ TEST(CliGeometry, MeshField) {
   EXPECT_NE(exact.output.find("exact evaluation"), std::string::npos) << exact.output;
   EXPECT_EQ(evaluation(out, deviation), "exact");
   EXPECT_EQ(deviation, -1);
-  const Result small = run("field " + shared_data("meshes/joint.off") + " -o " + out.string() + " --grid 16x16x16");
+  const Result small = run("field " + test_data("meshes/joint.off") + " -o " + out.string() + " --grid 16x16x16");
   EXPECT_NE(small.output.find("exact evaluation"), std::string::npos) << small.output;
   EXPECT_EQ(evaluation(out, deviation), "exact");
   const Result info = run("info " + part);

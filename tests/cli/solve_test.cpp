@@ -299,7 +299,7 @@ TEST(CliSolve, LakeWithIslandsAsTheDomain) {
   // source. Cells from the edges' halfplanes, omega sampled with far-field
   // patches; u >= 0 inside (maximum principle), to the discretization's
   // undershoot near the shores.
-  const std::string lake = std::string(SAGE_SHARED_DIR) + "/data/gis/lake_vanern_se_osm_EPSG32633.geojson";
+  const std::string lake = sage::test::test_data("gis/lake_vanern_se_osm_EPSG32633.geojson");
   const std::string problem = write_file("solve_lake.json", R"({ "domain": ")" + lake + R"(", "source": 1 })");
   const fs::path out = scratch("solve_lake.vtu");
   const Result r = run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 48");

@@ -8,6 +8,7 @@
 #include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -16,7 +17,7 @@
 namespace sage::geometry {
 namespace {
 
-std::string data(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/gis/" + name; }
+std::string data(const std::string& name) { return sage::test::test_data("gis/" + name); }
 
 double ring_area(const Ring& r) {
   double a = 0;
@@ -41,7 +42,7 @@ double area(const PolygonSet& set) {
 /// Writes a GeoJSON FeatureCollection with the given features' geometries,
 /// in a projected CRS (UTM 33N) so that coordinates are used as written.
 std::string write_geojson(const std::string& name, const std::vector<std::string>& geometries) {
-  const auto path = std::filesystem::temp_directory_path() / ("sage_gis_test_" + name + ".geojson");
+  const auto path = sage::test::scratch_dir() / (name + ".geojson");
   std::ofstream out(path);
   out << R"({"type": "FeatureCollection",
              "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}}, "features": [)";
@@ -118,7 +119,7 @@ TEST(GisReader, GreeceHasOneCrossingAndRepairFixesIt) {
 
 /// Writes a GeoJSON without a "crs" member: WGS84 longitude/latitude.
 std::string write_lon_lat_geojson(const std::string& name, const std::string& geometry) {
-  const auto path = std::filesystem::temp_directory_path() / ("sage_gis_test_" + name + ".geojson");
+  const auto path = sage::test::scratch_dir() / (name + ".geojson");
   std::ofstream(path) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},
       "geometry": )" << geometry
                       << "}]}";
@@ -185,7 +186,7 @@ TEST(GisValidation, FaultsAfterRepairSuggestLeavingTheFeatureOut) {
 // A shapefile without its .prj: coordinates within longitude/latitude
 // ranges give a warning; --crs names the system and the data is projected.
 TEST(GisReader, MissingCoordinateSystemWarnsAndCrsOptionProjects) {
-  const auto folder = std::filesystem::temp_directory_path() / "sage_gis_test_noprj";
+  const auto folder = sage::test::scratch_dir() / "noprj";
   std::filesystem::create_directories(folder);
   for (const char* ext : {".shp", ".shx", ".dbf"})
     std::filesystem::copy_file(data(std::string("shapefile_nc/nc") + ext), folder / (std::string("nc") + ext),
@@ -270,14 +271,14 @@ TEST(GisValidation, SelectionAndFileErrors) {
   LoadOptions none;
   none.where = "NAME = 'nothing'";
   expect_fault(path, {"no polygon features"}, none);
-  const auto garbage = std::filesystem::temp_directory_path() / "sage_gis_test_garbage.geojson";
+  const auto garbage = sage::test::scratch_dir() / "garbage.geojson";
   std::ofstream(garbage) << "{\"type\": \"FeatureCollection\", \"features\": [ {oops";
   expect_fault(garbage.string(), {"GDAL cannot read"});
   expect_fault("/nonexistent/x.shp", {"GDAL cannot read"});
 }
 
 TEST(GisModel, GeoJsonWithJsonExtensionIsGisData) {
-  const auto path = std::filesystem::temp_directory_path() / "sage_gis_test_plain.json";
+  const auto path = sage::test::scratch_dir() / "plain.json";
   std::ofstream(path) << R"({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},
       "geometry": {"type": "Polygon", "coordinates": [[[0,0],[3,0],[3,3],[0,3],[0,0]]]}}]})";
   EXPECT_TRUE(is_gis_path(path.string()));

@@ -21,8 +21,8 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
-#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -49,17 +49,10 @@ using Mesh = CGAL::Surface_mesh<Point>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, CGAL::AABB_face_graph_triangle_primitive<Mesh>>>;
 using Vec3 = std::array<double, 3>;
 
-std::string shared_mesh(const std::string& name) { return std::string(SAGE_SHARED_DIR) + "/data/meshes/" + name; }
+std::string mesh_data(const std::string& name) { return sage::test::test_data("meshes/" + name); }
 
 // A scratch directory for the small files the tests write.
-fs::path scratch() {
-  static const fs::path dir = [] {
-    fs::path d = fs::temp_directory_path() / ("sage_mesh_test_" + std::to_string(::getpid()));
-    fs::create_directories(d);
-    return d;
-  }();
-  return dir;
-}
+fs::path scratch() { return sage::test::scratch_dir(); }
 
 std::string write_file(const std::string& name, const std::string& text) {
   const fs::path p = scratch() / name;
@@ -226,7 +219,7 @@ GradReport check_gradients(const sage::Tape& tape, const Mesh& mesh, int n, doub
 }
 
 void check_real_mesh(const std::string& name, int sign_points, int grad_points) {
-  const std::string path = shared_mesh(name);
+  const std::string path = mesh_data(name);
   const Model m = load_mesh(path, with_method("brep"));
   EXPECT_EQ(m.dimension, 3);
   EXPECT_TRUE(has_note(m, "method: brep")) << all_notes(m);
@@ -285,7 +278,7 @@ sage::Grid grid_around(const Model& m, double margin, const std::array<int, 3>& 
 TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
   LoadOptions options;
   options.method = "brep";
-  const Model m = load_mesh(shared_mesh("joint.off"), options);
+  const Model m = load_mesh(mesh_data("joint.off"), options);
   ASSERT_TRUE(m.bounds);
   const sage::Tape tape(m.field, 3);
   const sage::Grid g = grid_around(m, 0.1, {11, 9, 7});
@@ -307,7 +300,7 @@ TEST(MeshReal, GridSamplesOfTheTrimmedFaceFieldAreThePointEvaluatorsBits) {
 void check_far_faces(const std::string& file, int points, bool pays) {
   LoadOptions options;
   options.method = "brep";
-  const Model m = load_mesh(shared_mesh(file), options);
+  const Model m = load_mesh(mesh_data(file), options);
   ASSERT_TRUE(m.bounds);
   const sage::Tape tape(m.field, 3);
   EXPECT_EQ(sage::far_faces_pay(tape), pays);
@@ -347,7 +340,7 @@ TEST(MeshReal, FarFacesStayWithinTheirBoundOnAnStlPart) { check_far_faces("occt_
 TEST(MeshReal, FarFacesBeyondTheLimitAreSampledAgainExactly) {
   LoadOptions options;
   options.method = "brep";
-  const Model m = load_mesh(shared_mesh("joint.off"), options);
+  const Model m = load_mesh(mesh_data("joint.off"), options);
   const sage::Tape tape(m.field, 3);
   const sage::Grid g = grid_around(m, 0.05, {12, 12, 12});
   sage::Approximation strict;
@@ -363,18 +356,18 @@ TEST(MeshReal, FarFacesBeyondTheLimitAreSampledAgainExactly) {
 }
 
 TEST(MeshReal, NotesReportTopology) {
-  const Model m = load_mesh(shared_mesh("joint.off"), {});
+  const Model m = load_mesh(mesh_data("joint.off"), {});
   EXPECT_TRUE(has_note(m, "221 vertices, 446 triangles")) << all_notes(m);
   EXPECT_TRUE(has_note(m, "genus 2")) << all_notes(m);
   EXPECT_TRUE(has_note(m, "orientation: consistent and outward")) << all_notes(m);
   EXPECT_EQ(m.name, "joint");
-  EXPECT_EQ(m.source, shared_mesh("joint.off"));
+  EXPECT_EQ(m.source, mesh_data("joint.off"));
 }
 
 // The classifier is shared by threads: concurrent classify and classify_box
 // calls agree with a single-threaded run.
 TEST(MeshReal, ClassifierIsSafeUnderConcurrentQueries) {
-  const Model m = load_mesh(shared_mesh("pinion.off"), with_method("brep"));
+  const Model m = load_mesh(mesh_data("pinion.off"), with_method("brep"));
   std::shared_ptr<const sage::PointClassifier> c;
   for (std::vector<sage::Expr> stack{m.field}; !stack.empty() && !c;) {
     const sage::Expr e = stack.back();
@@ -429,10 +422,10 @@ TEST(MeshReal, ClassifierIsSafeUnderConcurrentQueries) {
 // is on that side (checked at its centre against CGAL); boxes that meet no
 // triangle are proved by classify_box, so many enclosures are one-signed.
 TEST(MeshReal, IntervalsProveSides) {
-  const Model m = load_mesh(shared_mesh("joint.off"), {});
+  const Model m = load_mesh(mesh_data("joint.off"), {});
   const sage::Tape tape(m.field, 3);
   sage::Evaluator<sage::Interval> eval(tape);
-  const Reference ref(shared_mesh("joint.off"));
+  const Reference ref(mesh_data("joint.off"));
   std::mt19937_64 rng(5);
   int proved = 0;
   for (int k = 0; k < 60; ++k) {
@@ -748,7 +741,7 @@ TEST(MeshDeficiency, IslandInACavity) {
 // and wrap-around regions); each falls back to the brep field and says so.
 TEST(MeshDeficiency, RealMeshesThatDoNotTerminateSaySo) {
   for (const std::string name : {"joint.off", "pinion.off", "fandisk.off"}) {
-    const Model m = load_mesh(shared_mesh(name), {});
+    const Model m = load_mesh(mesh_data(name), {});
     for (const auto& n : m.notes)
       if (n.find("method: csg") != std::string::npos) std::cout << "[mesh csg]   " << n << "\n";
     EXPECT_TRUE(has_note(m, "has no face on its own convex hull")) << all_notes(m);

@@ -16,6 +16,7 @@
 #include <sage/tape/evaluator.hpp>
 
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
 #include <atomic>
 #include <functional>
@@ -41,7 +42,7 @@ PolygonSet single(std::vector<Point2> outer, std::vector<std::vector<Point2>> ho
 
 PolygonSet from_file(const std::string& name) {
   LoadOptions options;
-  GisPolygons gis = read_gis_polygons(std::string(SAGE_SHARED_DIR) + "/data/gis/" + name, options);
+  GisPolygons gis = read_gis_polygons(sage::test::test_data("gis/" + name), options);
   validate_polygons(gis.polygons, name);
   return gis.polygons;
 }
@@ -269,8 +270,7 @@ TEST(PolygonCsg, EachEdgeHalfplaneAppearsExactlyOnce) {
 TEST(PolygonCsg, GreenlandSignsAreExact) {
   LoadOptions options;
   options.repair = true;
-  GisPolygons gis =
-      read_gis_polygons(std::string(SAGE_SHARED_DIR) + "/data/gis/greenland_ne10m_EPSG3413.geojson", options);
+  GisPolygons gis = read_gis_polygons(sage::test::test_data("gis/greenland_ne10m_EPSG3413.geojson"), options);
   validate_polygons(gis.polygons, "greenland");
   const Samples samples = random_samples(gis.polygons, 2000, 1e-9 * box_of(gis.polygons).diagonal());
   CsgStatistics stats;

@@ -14,6 +14,7 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
 #include <filesystem>
 
@@ -29,9 +30,7 @@ sage::FieldSamples samples_of(const std::string& formula, int dimension, int ord
   return sage::sample_field(tape, grid, order);
 }
 
-std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("sage_output_test_" + name)).string();
-}
+std::string temp_path(const std::string& name) { return (sage::test::scratch_dir() / name).string(); }
 
 TEST(VtkWriter, UnstructuredGridRoundTrip2D) {
   const auto s = samples_of("x^2 * y + 3 * y", 2, 3);

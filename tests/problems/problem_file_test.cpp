@@ -6,6 +6,7 @@
 #include <sage/solver/poisson.hpp>
 
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -57,7 +58,7 @@ TEST(ProblemFile, BracketIsAnElasticityProblem) {
 }
 
 TEST(ProblemFile, BadFilesNameFileAndPlace) {
-  const auto path = std::filesystem::temp_directory_path() / "sage_problem_file_test.json";
+  const auto path = sage::test::scratch_dir() / "problem.json";
   std::ofstream(path) << R"({ "physics": "elasticity", "domain": { "dimension": 2,
       "bounds": { "min": [-1, -1], "max": [1, 1] },
       "field": { "name": "disk", "primitive": "disk", "center": [0, 0], "radius": 1 } },

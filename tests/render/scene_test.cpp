@@ -16,6 +16,7 @@
 #include <vtkPNGReader.h>
 
 #include <gtest/gtest.h>
+#include <test_files.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -125,7 +126,7 @@ TEST(Scene, PngFilesRoundTripThroughVtk) {
   output::RgbImage image(7, 5);
   image.pixel(1, 0)[0] = 255;  // top row, red
   image.pixel(6, 4)[2] = 200;  // bottom-right, blue
-  const auto path = std::filesystem::temp_directory_path() / "sage_render_roundtrip.png";
+  const auto path = sage::test::scratch_dir() / "roundtrip.png";
   output::write_png(path.string(), image);
   vtkNew<vtkPNGReader> reader;
   reader->SetFileName(path.string().c_str());
