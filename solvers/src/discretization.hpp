@@ -149,8 +149,10 @@ struct StencilLayout {
 
 /// The boundary part at a surface point: of the first `parts` results of
 /// `eval` (the parts' selectors there), the one nearest zero within
-/// `tolerance`, or `parts` (the rest) when none is.
+/// `tolerance` (kSelectorTolerance cell widths), or `parts` (the rest) when
+/// none is.
 std::size_t nearest_part(const Evaluator<double>& eval, std::size_t parts, double tolerance);
+constexpr double kSelectorTolerance = 1e-6;
 
 /// Calls add() on each thread of the enclosing parallel region in turn,
 /// thread 0 first: sums of per-thread arrays taken in this fixed order give

@@ -1,3 +1,4 @@
+#include "data_check.hpp"
 #include "discretization.hpp"
 #include "linear_solve.hpp"
 #include "stage_timer.hpp"
@@ -232,6 +233,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
     }
     solution.structure = std::make_shared<Tape>(roots, D);
   }
+  check_data(elasticity_data_rules(problem, structured), rules, kSelectorTolerance * grid.h);
   solution.mesh = cells.mesh();
   if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 
@@ -262,7 +264,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   const int local = grid.local_count(), dofs = D * local, voigt = voigt_size(D);
   const Eigen::MatrixXd elastic = material.voigt(D);
   const Eigen::MatrixXd elastic_root = Eigen::LLT<Eigen::MatrixXd>(elastic).matrixL();  // C = R R^T
-  const double selector_tolerance = 1e-6 * grid.h;
+  const double selector_tolerance = kSelectorTolerance * grid.h;
   const double penalty = weak ? *report.nitsche_penalty * material.stiffness_scale(D) / grid.h : 0.0;
   const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
 

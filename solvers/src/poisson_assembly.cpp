@@ -133,7 +133,7 @@ PoissonAssembly assemble_poisson(const PoissonAssemblyInput<D>& in) {
   const int local_rows = second ? 2 * local_count : local_count;
   const std::vector<int>& stencil_of_local = layout.position;
   const int stencil_centre = layout.centre;
-  const double selector_tolerance = 1e-6 * grid.h;
+  const double selector_tolerance = kSelectorTolerance * grid.h;
   const double nitsche_weight = weak_dirichlet ? in.nitsche_penalty / grid.h : 0.0;
   // The local B-splines at the inside cells' common rule, tabulated once.
   const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
@@ -196,7 +196,7 @@ PoissonAssembly assemble_poisson(const PoissonAssemblyInput<D>& in) {
         local.evaluate(grid, cell, q.x.data(), true);
         const auto& w = structure_eval.result(0);
         const auto gw = w.gradient(), gg = structure_eval.result(1).gradient();
-        const double scale = std::sqrt(std::max(conductivity, 0.0) * q.weight);
+        const double scale = std::sqrt(conductivity * q.weight);  // k > 0: check_data
         // v_j = w B_j - t . grad B_j; d v_j / dx_a = dw/dx_a B_j + w dB_j/dx_a
         //       - sum_b (dt_b/dx_a dB_j/dx_b + t_b d2B_j/dx_a dx_b).
         const Eigen::Map<const Eigen::VectorXd> values(local.value.data(), local_count);
@@ -251,7 +251,7 @@ PoissonAssembly assemble_poisson(const PoissonAssemblyInput<D>& in) {
           value_data = local.value.data();
           for (int a = 0; a < D; ++a) slope_data[a] = local.gradient[a].data();
         }
-        const double scale = std::sqrt(std::max(conductivity, 0.0) * q.weight);
+        const double scale = std::sqrt(conductivity * q.weight);
         // Column a of point p: scale * d v_j / dx_a for every j, with
         // grad v_j = B_j grad w + w grad B_j (contiguous, vectorizable).
         // The load (f, v_j) - (k grad g, grad v_j) is alpha B_j + beta . grad B_j.
