@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,34 @@ namespace sage::solver {
 
 namespace {
 
+std::string number_text(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+/// The system must be worth solving before any factorization touches it
+/// (Eigen's incomplete Cholesky reads past its arrays when a column has no
+/// diagonal entry): finite entries, a positive diagonal, a finite right
+/// side. The problem's data are checked before assembly (data_check.hpp),
+/// so these name what slipped through as an unknown's index.
+void check_system(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right) {
+  for (Eigen::Index c = 0; c < system.outerSize(); ++c) {
+    Eigen::SparseMatrix<double>::InnerIterator entry(system, c);
+    if (!entry || entry.row() != c || !(entry.value() > 0.0))
+      throw std::runtime_error("the assembled system is not positive definite: unknown " + std::to_string(c) +
+                               " has the diagonal entry " +
+                               number_text(entry && entry.row() == c ? entry.value() : 0.0));
+    for (; entry; ++entry)
+      if (!std::isfinite(entry.value()))
+        throw std::runtime_error("the assembled system holds " + number_text(entry.value()) + " in row " +
+                                 std::to_string(entry.row()) + ", column " + std::to_string(c));
+    if (!std::isfinite(right[c]))
+      throw std::runtime_error("the assembled right side is " + number_text(right[c]) + " at unknown " +
+                               std::to_string(c));
+  }
+}
+
 /// What conjugate gradients reached.
 struct CgResult {
   Eigen::VectorXd x;
@@ -20,30 +49,94 @@ struct CgResult {
   double residual = 1.0;  // relative
 };
 
-/// Conjugate gradients from `guess` (or 0), for at most `budget`
-/// iterations; without a budget, throws when they do not converge.
+/// Iterations without halving the best residual after which conjugate
+/// gradients are said to stagnate: a singular, inconsistent system's
+/// residual levels off, while the hardest systems of the test suite and the
+/// benchmarks halve theirs within a few hundred iterations.
+constexpr int kStagnationIterations = 2000;
+
+/// Preconditioned conjugate gradients on the system's lower triangle from
+/// `guess` (or 0), for at most `budget` iterations; without a budget, throws
+/// when they do not converge. Throws at once on a breakdown: a residual that
+/// is not finite, a direction of non-positive curvature (the matrix is not
+/// positive definite), a preconditioner that is not, or stagnation.
 template <class Preconditioner>
 CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
-                             SolveReport& report, int budget = 0, const Eigen::VectorXd* guess = nullptr) {
-  Eigen::ConjugateGradient<Eigen::SparseMatrix<double>, Eigen::Lower, Preconditioner> cg;
-  cg.setTolerance(tolerance);
+                             SolveReport& report, const Preconditioner& preconditioner, int budget = 0,
+                             const Eigen::VectorXd* guess = nullptr) {
   report.cg_tolerance = tolerance;
-  cg.setMaxIterations(budget > 0 ? budget : 10 * system.rows() + 100);
-  cg.compute(system);
-  if (cg.info() != Eigen::Success) throw std::runtime_error("the preconditioner could not be set up");
+  const auto a = system.selfadjointView<Eigen::Lower>();
+  const int limit = budget > 0 ? budget : 10 * static_cast<int>(system.rows()) + 100;
   CgResult result;
-  if (guess) {
-    result.x = cg.solveWithGuess(right, *guess);
-  } else {
-    result.x = cg.solve(right);
+  result.x = guess ? *guess : Eigen::VectorXd::Zero(right.size());
+  const double right_norm = right.norm();
+  if (right_norm == 0.0) {
+    result.x.setZero();
+    result.converged = true;
+    result.residual = 0.0;
+    return result;
   }
-  report.iterations += static_cast<int>(cg.iterations());
-  result.converged = cg.info() == Eigen::Success;
-  result.residual = cg.error();
+  Eigen::VectorXd r = right - a * result.x;
+  Eigen::VectorXd z = preconditioner.solve(r);
+  Eigen::VectorXd p = z, q(right.size());
+  double rz = r.dot(z), best = r.norm();
+  int iteration = 0, best_at = 0;
+  auto breakdown = [&](const std::string& what) {
+    report.iterations += iteration;
+    return std::runtime_error("conjugate gradients broke down at iteration " + std::to_string(iteration) + ": " + what);
+  };
+  result.residual = best / right_norm;
+  while (result.residual > tolerance && iteration < limit) {
+    ++iteration;
+    q.noalias() = a * p;
+    const double curvature = p.dot(q);
+    if (!std::isfinite(curvature) || !std::isfinite(rz)) throw breakdown("a number that is not finite (NaN or inf)");
+    if (!(curvature > 0.0))
+      throw breakdown("the system is not positive definite (p.Ap = " + number_text(curvature) + ")");
+    if (!(rz > 0.0)) throw breakdown("the preconditioner is not positive definite (r.Mr = " + number_text(rz) + ")");
+    const double alpha = rz / curvature;
+    result.x += alpha * p;
+    r -= alpha * q;
+    const double norm = r.norm();
+    if (!std::isfinite(norm)) throw breakdown("the residual is not finite");
+    result.residual = norm / right_norm;
+    if (norm < 0.5 * best) {
+      best = norm;
+      best_at = iteration;
+    } else if (iteration - best_at >= kStagnationIterations) {
+      throw breakdown("no progress in " + std::to_string(kStagnationIterations) + " iterations (relative residual " +
+                      number_text(result.residual) +
+                      "): the system is singular or too ill-conditioned for this solver (try --solver direct)");
+    }
+    z = preconditioner.solve(r);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  report.iterations += iteration;
+  result.converged = result.residual <= tolerance;
   if (!result.converged && budget == 0)
-    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(cg.iterations()) +
-                             " iterations (relative residual " + std::to_string(cg.error()) + ")");
+    throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(iteration) +
+                             " iterations (relative residual " + number_text(result.residual) + ")");
   return result;
+}
+
+using Jacobi = Eigen::DiagonalPreconditioner<double>;
+using IncompleteCholesky = Eigen::IncompleteCholesky<double>;
+
+/// Conjugate gradients with incomplete Cholesky; with Jacobi when the
+/// incomplete factorization finds no positive pivots even after its
+/// shifts (it can, on a positive definite matrix far from diagonally
+/// dominant).
+Eigen::VectorXd incomplete_cholesky_cg(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
+                                       double tolerance, SolveReport& report, const std::string& before = "") {
+  IncompleteCholesky factor(system);
+  if (factor.info() == Eigen::Success) {
+    report.linear_solver = before + "conjugate gradients, incomplete Cholesky";
+    return conjugate_gradients(system, right, tolerance, report, factor).x;
+  }
+  report.linear_solver = before + "conjugate gradients, Jacobi (incomplete Cholesky failed: no positive pivots)";
+  return conjugate_gradients(system, right, tolerance, report, Jacobi(system)).x;
 }
 
 /// 3D, automatic: Jacobi's preconditioner is set up for free and enough
@@ -56,16 +149,14 @@ CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Ei
 constexpr int kJacobiProbe = 200;
 constexpr int kJacobiBudget = 4000;
 
-using Jacobi = Eigen::DiagonalPreconditioner<double>;
-using IncompleteCholesky = Eigen::IncompleteCholesky<double>;
-
 Eigen::VectorXd jacobi_then_incomplete_cholesky(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
                                                 double tolerance, SolveReport& report) {
   report.linear_solver = "conjugate gradients, Jacobi";
+  const Jacobi jacobi(system);
   // Jacobi in legs: after each, the rate of the last leg says how many
   // more iterations it needs (CG's residual falls about geometrically
   // once past its first fast phase); beyond the budget, incomplete Cholesky.
-  CgResult leg = conjugate_gradients<Jacobi>(system, right, tolerance, report, kJacobiProbe);
+  CgResult leg = conjugate_gradients(system, right, tolerance, report, jacobi, kJacobiProbe);
   int spent = kJacobiProbe, length = kJacobiProbe;
   double start = 1.0;
   while (!leg.converged) {
@@ -75,19 +166,20 @@ Eigen::VectorXd jacobi_then_incomplete_cholesky(const Eigen::SparseMatrix<double
     if (spent + more > kJacobiBudget) break;
     start = leg.residual;
     length = std::max(kJacobiProbe, static_cast<int>(1.2 * more));
-    leg = conjugate_gradients<Jacobi>(system, right, tolerance, report, length, &leg.x);
+    leg = conjugate_gradients(system, right, tolerance, report, jacobi, length, &leg.x);
     spent += length;
   }
   if (leg.converged) return leg.x;
-  report.linear_solver =
-      "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then incomplete Cholesky";
-  return conjugate_gradients<IncompleteCholesky>(system, right, tolerance, report).x;
+  return incomplete_cholesky_cg(
+      system, right, tolerance, report,
+      "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then ");
 }
 
 }  // namespace
 
 Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
                                 LinearSolverKind kind, double tolerance, SolveReport& report) {
+  check_system(system, right);
   Eigen::VectorXd x;
   switch (kind) {
     case LinearSolverKind::Direct: {
@@ -95,17 +187,19 @@ Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const
       if (factor.info() != Eigen::Success)
         throw std::runtime_error(
             "the sparse factorization failed: the system is singular (is the basis stable? try --basis web)");
+      Eigen::Index pivot = 0;
+      const double least = factor.vectorD().minCoeff(&pivot);
+      if (!(least > 0.0))
+        throw std::runtime_error("the sparse factorization found the pivot " + number_text(least) +
+                                 ": the system is not positive definite");
       x = factor.solve(right);
       report.linear_solver = "sparse LDLT (AMD ordering)";
       report.iterations = 1;
       break;
     }
-    case LinearSolverKind::ConjugateGradient:
-      x = conjugate_gradients<IncompleteCholesky>(system, right, tolerance, report).x;
-      report.linear_solver = "conjugate gradients, incomplete Cholesky";
-      break;
+    case LinearSolverKind::ConjugateGradient: x = incomplete_cholesky_cg(system, right, tolerance, report); break;
     case LinearSolverKind::JacobiConjugateGradient:
-      x = conjugate_gradients<Jacobi>(system, right, tolerance, report).x;
+      x = conjugate_gradients(system, right, tolerance, report, Jacobi(system)).x;
       report.linear_solver = "conjugate gradients, Jacobi";
       break;
     case LinearSolverKind::Automatic: x = jacobi_then_incomplete_cholesky(system, right, tolerance, report); break;
