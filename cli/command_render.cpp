@@ -4,6 +4,7 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 
+#include <sage/output/output_file.hpp>
 #include <sage/output/png_writer.hpp>
 #include <sage/render/field_map.hpp>
 #include <sage/render/solid.hpp>
@@ -11,8 +12,6 @@
 
 #include <boost/program_options.hpp>
 
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 
@@ -40,9 +39,7 @@ void parse_size(const std::string& text, int& width, int& height) {
 void check_output(const std::string& path) {
   if (path.size() < 4 || path.compare(path.size() - 4, 4, ".png") != 0)
     throw UsageError{"-o " + path + ": the output must end in .png"};
-  const bool existed = std::filesystem::exists(path);
-  if (!std::ofstream(path, std::ios::app)) throw std::runtime_error(path + ": cannot open the file for writing");
-  if (!existed) std::filesystem::remove(path);
+  output::check_writable(path);
 }
 
 template <class F>

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/tape/far_faces.hpp>
@@ -111,6 +112,7 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
   if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
     throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+  output::check_writable(job.output_path);  // before the work, not after it
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   FieldReport report;
   report.grid = grid_for(model, job.grid, job.bounds);

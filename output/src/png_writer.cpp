@@ -1,3 +1,4 @@
+#include <sage/output/output_file.hpp>
 #include <sage/output/png_writer.hpp>
 #include <sage/output/vtk_writer.hpp>
 
@@ -8,15 +9,11 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <cstring>
-#include <fstream>
 
 namespace sage::output {
 
 void write_png(const std::string& path, const RgbImage& image) {
   if (image.width <= 0 || image.height <= 0) throw OutputError(path + ": cannot write an empty image");
-  // VTK reports write errors through its error macros only: check the
-  // path ourselves so that the user gets a message and an exit code.
-  if (!std::ofstream(path, std::ios::binary)) throw OutputError(path + ": cannot open the file for writing");
   vtkNew<vtkImageData> data;
   data->SetDimensions(image.width, image.height, 1);
   data->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
@@ -24,11 +21,15 @@ void write_png(const std::string& path, const RgbImage& image) {
   const std::size_t row = 3 * static_cast<std::size_t>(image.width);
   for (int y = 0; y < image.height; ++y)
     std::memcpy(out + row * (image.height - 1 - y), image.rgb.data() + row * y, row);
-  vtkNew<vtkPNGWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(data);
-  writer->Write();
-  if (writer->GetErrorCode() != 0) throw OutputError(path + ": VTK could not write the PNG file");
+  // VTK reports write errors through its error macros only: write_atomically
+  // checks the folder first, so that the user gets a message and an exit code.
+  write_atomically(path, [&](const std::string& temporary) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(data);
+    writer->Write();
+    if (writer->GetErrorCode() != 0) throw OutputError(path + ": VTK could not write the PNG file");
+  });
 }
 
 }  // namespace sage::output

@@ -1,53 +1,14 @@
+#include "unstructured_writer.hpp"
+
 #include <sage/output/point_arrays.hpp>
 #include <sage/output/vtk_writer.hpp>
 
 #include <vtkCellArray.h>
-#include <vtkDoubleArray.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridWriter.h>
-
-#include <fstream>
 
 namespace sage::output {
-
-namespace {
-
-void write_unstructured(const std::string& path, vtkUnstructuredGrid* grid) {
-  {
-    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe) throw OutputError(path + ": cannot open for writing (does the folder exist? permissions?)");
-  }
-  vtkNew<vtkXMLUnstructuredGridWriter> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(grid);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  writer->SetCompressorTypeToLZ4();
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-    throw OutputError(path + ": VTK could not write the file (disk full or no permission?)");
-}
-
-/// Adds the arrays, taking the values of the grid points listed in `used`.
-void add_arrays(vtkUnstructuredGrid* grid, const std::vector<PointArray>& arrays, const std::vector<vtkIdType>& used) {
-  for (const PointArray& a : arrays) {
-    vtkNew<vtkDoubleArray> data;
-    data->SetName(a.name.c_str());
-    data->SetNumberOfComponents(a.components);
-    data->SetNumberOfTuples(static_cast<vtkIdType>(used.size()));
-    for (std::size_t i = 0; i < used.size(); ++i)
-      for (int c = 0; c < a.components; ++c)
-        data->SetComponent(static_cast<vtkIdType>(i), c,
-                           a.values[static_cast<std::size_t>(used[i]) * static_cast<std::size_t>(a.components) +
-                                    static_cast<std::size_t>(c)]);
-    grid->GetPointData()->AddArray(data);
-  }
-  if (!arrays.empty()) grid->GetPointData()->SetActiveScalars(arrays.front().name.c_str());
-}
-
-}  // namespace
 
 void write_point_arrays(const std::string& path, const Grid& g, const std::vector<PointArray>& arrays,
                         const std::vector<char>& keep_cell) {

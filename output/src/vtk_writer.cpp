@@ -1,3 +1,4 @@
+#include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 
 #include <vtkCellArray.h>
@@ -15,7 +16,6 @@
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
 
 namespace sage::output {
 
@@ -127,14 +127,16 @@ vtkNew<vtkImageData> image(const FieldSamples& s) {
 
 template <class Writer, class Data>
 void write_with(const std::string& path, Data* data) {
-  vtkNew<Writer> writer;
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(data);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  writer->SetCompressorTypeToLZ4();  // zlib is 20x slower here for little gain on doubles
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-    throw OutputError(path + ": VTK could not write the file (disk full or no permission?)");
+  write_atomically(path, [&](const std::string& temporary) {
+    vtkNew<Writer> writer;
+    writer->SetFileName(temporary.c_str());
+    writer->SetInputData(data);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();
+    writer->SetCompressorTypeToLZ4();  // zlib is 20x slower here for little gain on doubles
+    if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+      throw OutputError(path + ": VTK could not write the file (disk full or no permission?)");
+  });
 }
 
 }  // namespace
@@ -143,11 +145,6 @@ bool is_supported_field_path(const std::string& path) { return ends_with(path, "
 
 void write_field(const std::string& path, const FieldSamples& samples) {
   if (!is_supported_field_path(path)) throw OutputError(path + ": unsupported extension (use .vtu or .vti)");
-  {
-    // Check writability first so that the message is ours, not VTK's log.
-    std::ofstream probe(path, std::ios::binary | std::ios::trunc);
-    if (!probe) throw OutputError(path + ": cannot open for writing (does the folder exist? permissions?)");
-  }
   if (ends_with(path, ".vti")) {
     auto data = image(samples);
     write_with<vtkXMLImageDataWriter>(path, data.GetPointer());
