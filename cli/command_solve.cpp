@@ -8,6 +8,7 @@
 #include "field_job.hpp"
 #include "solve_output.hpp"
 
+#include <sage/output/output_file.hpp>
 #include <sage/output/point_arrays.hpp>
 #include <sage/solver/bspline.hpp>
 #include <sage/solver/poisson.hpp>
@@ -43,9 +44,10 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
 
   const auto start = std::chrono::steady_clock::now();
   const Grid grid = output_grid(command, problem, command.options.cell_width);
-  const std::size_t n = grid.size();
-  output::PointArray u{"u", 1, std::vector<double>(n)}, grad{"grad_u", 3, std::vector<double>(3 * n, 0.0)},
-      omega{"omega", 1, std::vector<double>(n)};
+  const output::ClippedGrid part = clipped_output<D>(grid, solution.domain, solution.mesh, solution.basis.grid.h);
+  const std::vector<std::array<double, 3>> points = part.points();
+  const std::size_t n = points.size();
+  output::PointArray u{"u", 1, std::vector<double>(n)}, grad{"grad_u", 3, std::vector<double>(3 * n, 0.0)};
   output::PointArray exact{"u_exact", 1, {}}, error{"error", 1, {}};
   std::optional<Tape> exact_tape;
   if (problem.exact) {
@@ -53,9 +55,6 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
     exact.values.resize(n);
     error.values.resize(n);
   }
-  // omega: large fields (polygons of many edges) by grid sampling with
-  // far-field patches; mesh domains by the signed distance (the probe).
-  const bool sampled_omega = sample_large_omega(solution.domain, grid, omega.values);
 #pragma omp parallel
   {
     typename solver::PoissonSolution<D>::Probe probe(solution);
@@ -63,26 +62,23 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
     if (exact_tape) exact_eval.emplace(*exact_tape);
 #pragma omp for schedule(dynamic, 1024)
     for (std::size_t i = 0; i < n; ++i) {
-      const auto p = grid.point(i);
+      const double* p = points[i].data();
       double g[3] = {0, 0, 0};
-      u.values[i] = probe.at(p.data(), g);
+      u.values[i] = probe.at(p, g);
       for (int a = 0; a < D; ++a) grad.values[3 * i + static_cast<std::size_t>(a)] = g[a];
-      if (!sampled_omega) omega.values[i] = probe.omega(p.data());
       if (exact_eval) {
-        exact_eval->evaluate(p.data());
+        exact_eval->evaluate(p);
         exact.values[i] = exact_eval->result();
         error.values[i] = u.values[i] - exact.values[i];
       }
     }
   }
-  std::size_t kept = 0;
-  const std::vector<char> keep = covering_cells(grid, omega.values, kept);
-  std::vector<output::PointArray> arrays{u, grad, omega};
+  std::vector<output::PointArray> arrays{u, grad};
   if (problem.exact) {
     arrays.push_back(exact);
     arrays.push_back(error);
   }
-  output::write_point_arrays(command.output_path, grid, arrays, keep);
+  part.write(command.output_path, arrays);
   write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -111,7 +107,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
       "errors %.3f, output %.3f\n",
       s.field, s.classification, s.quadrature, s.assembly, s.solve, s.condition, s.errors, output_seconds);
-  std::printf("wrote %s: %zu cells of the grid of %zu points\n", command.output_path.c_str(), kept, grid.size());
+  print_written(command.output_path, part, grid);
 }
 
 }  // namespace
@@ -214,6 +210,9 @@ int run_solve(const std::vector<std::string>& args) {
     }
   }
 
+  // Before the work, not after it.
+  output::check_writable(command.output_path);
+  if (!command.quadrature_path.empty()) output::check_writable(command.quadrature_path);
   const ProblemFile file = problems::read_problem_file(command.problem_path);
   const solver::PoissonProblem& problem = file.problem;
   command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));

@@ -28,10 +28,11 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
 
   const auto start = std::chrono::steady_clock::now();
   const Grid grid = output_grid(command, file.problem, command.options.cell_width);
-  const std::size_t n = grid.size();
+  const output::ClippedGrid part = clipped_output<D>(grid, solution.domain, solution.mesh, solution.basis.grid.h);
+  const std::vector<std::array<double, 3>> points = part.points();
+  const std::size_t n = points.size();
   output::PointArray displacement{"displacement", 3, std::vector<double>(3 * n, 0.0)},
-      stress{"stress", 6, std::vector<double>(6 * n)}, mises{"von_mises", 1, std::vector<double>(n)},
-      omega{"omega", 1, std::vector<double>(n)};
+      stress{"stress", 6, std::vector<double>(6 * n)}, mises{"von_mises", 1, std::vector<double>(n)};
   output::PointArray exact{"displacement_exact", 3, {}}, error{"displacement_error", 3, {}};
   std::optional<Tape> exact_tape;
   if (problem.exact) {
@@ -39,7 +40,6 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
     exact.values.assign(3 * n, 0.0);
     error.values.assign(3 * n, 0.0);
   }
-  const bool sampled_omega = sample_large_omega(solution.domain, grid, omega.values);
 #pragma omp parallel
   {
     typename solver::ElasticitySolution<D>::Probe probe(solution);
@@ -47,16 +47,15 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
     if (exact_tape) exact_eval.emplace(*exact_tape);
 #pragma omp for schedule(dynamic, 1024)
     for (std::size_t i = 0; i < n; ++i) {
-      const auto p = grid.point(i);
+      const double* p = points[i].data();
       double u[D], g[D * D];
-      probe.at(p.data(), u, g);
+      probe.at(p, u, g);
       const auto s = solution.material.template stress<D>(g);
       for (int a = 0; a < D; ++a) displacement.values[3 * i + static_cast<std::size_t>(a)] = u[a];
       for (int v = 0; v < 6; ++v) stress.values[6 * i + static_cast<std::size_t>(v)] = s[static_cast<std::size_t>(v)];
       mises.values[i] = solver::von_mises(s);
-      if (!sampled_omega) omega.values[i] = probe.omega(p.data());
       if (!exact_eval) continue;
-      exact_eval->evaluate(p.data());
+      exact_eval->evaluate(p);
       for (int a = 0; a < D; ++a) {
         const auto at = 3 * i + static_cast<std::size_t>(a);
         exact.values[at] = exact_eval->result(static_cast<std::size_t>(a));
@@ -64,14 +63,12 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
       }
     }
   }
-  std::size_t kept = 0;
-  const std::vector<char> keep = covering_cells(grid, omega.values, kept);
-  std::vector<output::PointArray> arrays{displacement, stress, mises, omega};
+  std::vector<output::PointArray> arrays{displacement, stress, mises};
   if (problem.exact) {
     arrays.push_back(exact);
     arrays.push_back(error);
   }
-  output::write_point_arrays(command.output_path, grid, arrays, keep);
+  part.write(command.output_path, arrays);
   write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -100,7 +97,7 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, errors %.3f, output "
       "%.3f\n",
       s.field, s.classification, s.quadrature, s.assembly, s.solve, s.errors, output_seconds);
-  std::printf("wrote %s: %zu cells of the grid of %zu points\n", command.output_path.c_str(), kept, grid.size());
+  print_written(command.output_path, part, grid);
 }
 
 template void solve_elasticity_and_write<2>(const SolveCommand&, const ProblemFile&);

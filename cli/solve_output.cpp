@@ -2,6 +2,7 @@
 
 #include <sage/output/point_arrays.hpp>
 #include <sage/sampling/pruned_grid.hpp>
+#include <sage/solver/domain_probe.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -38,20 +39,29 @@ bool sample_large_omega(const std::shared_ptr<const Tape>& domain, const Grid& g
   return true;
 }
 
-std::vector<char> covering_cells(const Grid& grid, const std::vector<double>& omega, std::size_t& kept) {
-  std::vector<char> keep(grid.cell_count(), 0);
-  kept = 0;
-  const std::size_t nx = static_cast<std::size_t>(grid.points[0]), ny = static_cast<std::size_t>(grid.points[1]);
-  const std::size_t cx = nx - 1, cy = ny - 1;
-  for (std::size_t c = 0; c < grid.cell_count(); ++c) {
-    const std::size_t i = c % cx, j = (c / cx) % cy, k = c / cx / cy;
-    for (int corner = 0; corner < (1 << grid.dimension) && !keep[c]; ++corner) {
-      const std::size_t index = (i + (corner & 1)) + nx * ((j + ((corner >> 1) & 1)) + ny * (k + ((corner >> 2) & 1)));
-      keep[c] = omega[index] >= 0 ? 1 : 0;
+template <int D>
+output::ClippedGrid clipped_output(const Grid& grid, const std::shared_ptr<const Tape>& domain,
+                                   const std::shared_ptr<const solver::MeshDomain>& mesh, double cell_width) {
+  std::vector<double> omega(grid.size());
+  if (!sample_large_omega(domain, grid, omega)) {
+#pragma omp parallel
+    {
+      solver::DomainProbe<D> probe(domain, mesh, cell_width);
+#pragma omp for schedule(dynamic, 1024)
+      for (std::size_t i = 0; i < grid.size(); ++i) omega[i] = probe.at(grid.point(i).data());
     }
-    kept += keep[c] ? 1 : 0;
   }
-  return keep;
+  return output::ClippedGrid(grid, omega);
+}
+
+template output::ClippedGrid clipped_output<2>(const Grid&, const std::shared_ptr<const Tape>&,
+                                               const std::shared_ptr<const solver::MeshDomain>&, double);
+template output::ClippedGrid clipped_output<3>(const Grid&, const std::shared_ptr<const Tape>&,
+                                               const std::shared_ptr<const solver::MeshDomain>&, double);
+
+void print_written(const std::string& path, const output::ClippedGrid& part, const Grid& grid) {
+  std::printf("wrote %s: the domain's part of a grid of %zu points (%zu cells clipped at omega = 0, %zu points)\n",
+              path.c_str(), grid.size(), part.cell_count(), part.point_count());
 }
 
 void write_quadrature(const SolveCommand& command, const solver::QuadratureDump& q) {

@@ -7,6 +7,9 @@
 
 #include <sage/problems/problem_file.hpp>
 
+#include <sage/output/clipped_grid.hpp>
+#include <sage/solver/mesh_domain.hpp>
+
 #include <sage/sampling/grid.hpp>
 #include <sage/solver/solver_options.hpp>
 
@@ -43,8 +46,16 @@ constexpr double kOutputOmegaTolerance = 1e-10;
 /// True when omega of `domain` is sampled (a large field); then fills `omega`.
 bool sample_large_omega(const std::shared_ptr<const Tape>& domain, const Grid& grid, std::vector<double>& omega);
 
-/// The grid cells with a corner where omega >= 0 (they cover the domain), and their number.
-std::vector<char> covering_cells(const Grid& grid, const std::vector<double>& omega, std::size_t& kept);
+/// The part of the output grid in the domain: omega at the grid's points
+/// (large fields by sample_large_omega, others by the domain's probe),
+/// then the cells clipped at omega = 0 (output/clipped_grid.hpp), where
+/// the solution is sampled.
+template <int D>
+output::ClippedGrid clipped_output(const Grid& grid, const std::shared_ptr<const Tape>& domain,
+                                   const std::shared_ptr<const solver::MeshDomain>& mesh, double cell_width);
+
+/// The summary's last line: what the solution file holds.
+void print_written(const std::string& path, const output::ClippedGrid& part, const Grid& grid);
 
 /// Writes the quadrature points when asked (--quadrature-points).
 void write_quadrature(const SolveCommand& command, const solver::QuadratureDump& quadrature);
