@@ -131,7 +131,9 @@ class Reader : geometry::JsonFields<ProblemError> {
     e.min = p.min;
     e.max = p.max;
     e.material.young = number_at(top, "E", "");
-    if (!(e.material.young > 0.0)) fail("/E", "Young's modulus E must be positive");
+    if (!(e.material.young >= solver::kSmallestModulus && e.material.young <= solver::kLargestDatum))
+      fail("/E",
+           "Young's modulus E must be positive, within 1e-100 and 1e100 (change the units), not " + top["E"].dump());
     e.material.poisson = number_at(top, "nu", "");
     if (!(e.material.poisson > -1.0 && e.material.poisson < 0.5))
       fail("/nu", "Poisson's ratio nu must lie in (-1, 0.5), not " + top["nu"].dump());

@@ -52,32 +52,40 @@ namespace {
 
 constexpr const char* kAxisName[3] = {"x", "y", "z"};
 
-bool meets(DataNeed need, double value) {
+/// Why `value` breaks its rule, or "" when it does not. `robin_scale`:
+/// h / k at the point, for a Robin coefficient.
+std::string breach(DataNeed need, double value, double robin_scale) {
+  if (!std::isfinite(value))
+    return "every datum must be finite wherever the solver reads it (the domain for volume data, its part of the "
+           "boundary for boundary data)";
+  if (std::abs(value) > kLargestDatum)
+    return "a datum's magnitude must stay below " + number_text(kLargestDatum) +
+           " (beyond it, the assembly's products overflow double precision): change the units";
   switch (need) {
-    case DataNeed::Finite: return std::isfinite(value);
-    case DataNeed::Positive: return std::isfinite(value) && value > 0.0;
-    case DataNeed::NonNegative: return std::isfinite(value) && value >= 0.0;
-  }
-  return false;
-}
-
-std::string requirement(const DatumRule& rule) {
-  switch (rule.need) {
     case DataNeed::Positive:
-      return "the conductivity must be positive everywhere in the domain (where k <= 0, -div(k grad u) = f is not "
-             "elliptic and the system has no positive definite matrix)";
-    case DataNeed::NonNegative:
-      return "a Robin coefficient must not be negative (with beta < 0 the problem is not coercive: its solution "
-             "need not exist or be unique)";
+      if (!(value >= kSmallestModulus))
+        return "the conductivity must be positive everywhere in the domain (where k <= 0, -div(k grad u) = f is "
+               "not elliptic and the system has no positive definite matrix; below " +
+               number_text(kSmallestModulus) + " the stiffness underflows)";
+      break;
+    case DataNeed::RobinCoefficient:
+      if (value < 0.0)
+        return "a Robin coefficient must not be negative (with beta < 0 the problem is not coercive: its solution "
+               "need not exist or be unique)";
+      if (value * robin_scale > kLargestBiotNumber)
+        return "beta h / k is " + number_text(value * robin_scale) + " here, above " + number_text(kLargestBiotNumber) +
+               ": the Robin condition is u = flux / beta to rounding and the system is singular in double "
+               "precision (give a Dirichlet condition instead)";
+      break;
     case DataNeed::Finite: break;
   }
-  return "every datum must be finite wherever the solver reads it (the domain for volume data, its part of the "
-         "boundary for boundary data)";
+  return "";
 }
 
 std::string part_pointer(const std::string& name) { return "/boundary/" + pointer_token(name); }
 
-/// Moves the constant rules out of `rules`, throwing when one fails.
+/// Moves the constant rules out of `rules`, throwing when one fails (a
+/// Robin coefficient stays: its limit depends on the conductivity there).
 void check_constants(std::vector<DatumRule>& rules, int dimension) {
   std::vector<DatumRule> varying;
   for (DatumRule& rule : rules) {
@@ -86,29 +94,35 @@ void check_constants(std::vector<DatumRule>& rules, int dimension) {
       continue;
     }
     const double value = rule.formula.constant_value();
-    if (!meets(rule.need, value)) throw DataError(rule.pointer, value, std::nullopt, dimension, requirement(rule));
+    const std::string why = breach(rule.need, value, 0.0);
+    if (!why.empty()) throw DataError(rule.pointer, value, std::nullopt, dimension, why);
+    if (rule.need == DataNeed::RobinCoefficient) varying.push_back(std::move(rule));
   }
   rules = std::move(varying);
 }
 
-/// The first failure a thread found: the cell, the rule and the point.
+/// The first failure a thread found: the cell, the rule, the value, the point and why.
 struct Failure {
   std::size_t cell = std::numeric_limits<std::size_t>::max();
   const DatumRule* rule = nullptr;
   double value = 0.0;
   std::array<double, 3> point{};
+  std::string why;
 };
 
-/// Checks `rules`, the tape's results from `first` on, at x; records the first failure of cell k.
+/// Checks `rules`, the tape's results from `first` on, at x; records the
+/// first failure of cell k. `robin_scale`: h / k at x.
 template <int D>
 bool check_results(const std::vector<DatumRule>& rules, const Evaluator<double>& eval, std::size_t first, std::size_t k,
-                   const std::array<double, D>& x, Failure& failure) {
+                   const std::array<double, D>& x, Failure& failure, double robin_scale = 0.0) {
   for (std::size_t i = 0; i < rules.size(); ++i) {
     const double value = eval.result(first + i);
-    if (meets(rules[i].need, value)) continue;
+    std::string why = breach(rules[i].need, value, robin_scale);
+    if (why.empty()) continue;
     failure.cell = k;
     failure.rule = &rules[i];
     failure.value = value;
+    failure.why = std::move(why);
     for (int a = 0; a < D; ++a) failure.point[static_cast<std::size_t>(a)] = x[static_cast<std::size_t>(a)];
     return false;
   }
@@ -124,6 +138,7 @@ void append_roots(const std::vector<DatumRule>& rules, std::vector<Expr>& roots)
 DataRules poisson_data_rules(const PoissonProblem& problem, bool dirichlet_inside) {
   DataRules rules;
   rules.everywhere.push_back({"/conductivity", problem.conductivity, DataNeed::Positive});
+  rules.conductivity = problem.conductivity;
   rules.volume.push_back({"/source", problem.source});
   if (problem.exact) rules.volume.push_back({"/exact", *problem.exact});
   auto part_rules = [&](const BoundaryPart& part, const std::string& name) {
@@ -135,7 +150,7 @@ DataRules poisson_data_rules(const PoissonProblem& problem, bool dirichlet_insid
         if (dirichlet_inside) rules.volume.push_back(own.back());
         break;
       case BoundaryKind::Robin:
-        own.push_back({at + "/beta", part.beta, DataNeed::NonNegative});
+        own.push_back({at + "/beta", part.beta, DataNeed::RobinCoefficient});
         own.push_back({at + "/flux", part.flux});
         break;
       case BoundaryKind::Neumann: own.push_back({at + "/flux", part.flux}); break;
@@ -180,7 +195,7 @@ DataRules elasticity_data_rules(const ElasticityProblem& problem, bool fixed_ins
 }
 
 template <int D>
-void check_data(const DataRules& given, const CellRules<D>& cells, double selector_tolerance) {
+void check_data(const DataRules& given, const CellRules<D>& cells, double cell_width) {
   DataRules rules = given;
   check_constants(rules.volume, D);
   check_constants(rules.everywhere, D);
@@ -203,9 +218,12 @@ void check_data(const DataRules& given, const CellRules<D>& cells, double select
     part_first.push_back(surface_roots.size());
     append_roots(part, surface_roots);
   }
+  const std::size_t conductivity_at = surface_roots.size();
+  surface_roots.push_back(rules.conductivity);
   if (volume_roots.empty()) volume_roots.push_back(Expr(0.0));
   const Tape volume_tape(volume_roots, D), surface_tape(surface_roots, D);
   const std::size_t named = rules.selectors.size(), everywhere_first = named;
+  const double selector_tolerance = kSelectorTolerance * cell_width;
 
   Failure first;
 #pragma omp parallel
@@ -229,13 +247,14 @@ void check_data(const DataRules& given, const CellRules<D>& cells, double select
             !check_results<D>(rules.everywhere, surface_eval, everywhere_first, k, s.x, own))
           break;
         const std::size_t part = nearest_part(surface_eval, named, selector_tolerance);
-        if (!check_results<D>(rules.parts[part], surface_eval, part_first[part], k, s.x, own)) break;
+        const double robin_scale = cell_width / surface_eval.result(conductivity_at);
+        if (!check_results<D>(rules.parts[part], surface_eval, part_first[part], k, s.x, own, robin_scale)) break;
       }
     }
 #pragma omp critical
     if (own.cell < first.cell) first = own;
   }
-  if (first.rule) throw DataError(first.rule->pointer, first.value, first.point, D, requirement(*first.rule));
+  if (first.rule) throw DataError(first.rule->pointer, first.value, first.point, D, first.why);
 }
 
 template void check_data<2>(const DataRules&, const CellRules<2>&, double);

@@ -24,7 +24,10 @@
 
 namespace sage::solver {
 
-enum class DataNeed { Finite, Positive, NonNegative };
+/// What a datum must be, beyond finite and below kLargestDatum in magnitude
+/// (data_error.hpp). A Robin coefficient must also stay below
+/// kLargestBiotNumber k / h, k the conductivity at the point.
+enum class DataNeed { Finite, Positive, RobinCoefficient };
 
 /// One formula of a problem's data, its JSON pointer and what it must be.
 struct DatumRule {
@@ -39,6 +42,7 @@ struct DataRules {
   std::vector<DatumRule> everywhere;          // at the volume and the surface points
   std::vector<DatumRule> selectors;           // of the named parts, in order; at the surface points
   std::vector<std::vector<DatumRule>> parts;  // per named part, then the rest: at the points the part claims
+  Expr conductivity = 1.0;                    // k, for the Robin coefficients' limit
 };
 
 /// A Poisson problem's data. `dirichlet_inside`: the Dirichlet structure
@@ -50,6 +54,6 @@ DataRules elasticity_data_rules(const ElasticityProblem& problem, bool fixed_ins
 
 /// Throws DataError at the first point where a datum breaks its rule.
 template <int D>
-void check_data(const DataRules& rules, const CellRules<D>& cells, double selector_tolerance);
+void check_data(const DataRules& rules, const CellRules<D>& cells, double cell_width);
 
 }  // namespace sage::solver

@@ -233,7 +233,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
     }
     solution.structure = std::make_shared<Tape>(roots, D);
   }
-  check_data(elasticity_data_rules(problem, structured), rules, kSelectorTolerance * grid.h);
+  check_data(elasticity_data_rules(problem, structured), rules, grid.h);
   solution.mesh = cells.mesh();
   if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 

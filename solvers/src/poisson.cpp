@@ -401,7 +401,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   CellRules<D> rules = integrate_cells(cells, classified, quadrature, band_quadrature, in_band, needs_surface, report);
   const auto& volume = rules.volume;
   const auto& surface = rules.surface;
-  check_data(poisson_data_rules(problem, route == DirichletRoute::Structure), rules, kSelectorTolerance * grid.h);
+  check_data(poisson_data_rules(problem, route == DirichletRoute::Structure), rules, grid.h);
   timer.lap(&StageSeconds::quadrature);
 
   // Basis and assembly.

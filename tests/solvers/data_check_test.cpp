@@ -134,6 +134,27 @@ TEST(DataCheck, NegativeRobinCoefficientIsRefused) {
   EXPECT_NEAR((*varying.point())[1], -1.0, 1e-9);
 }
 
+TEST(DataCheck, DataOfScalesDoublePrecisionCannotCarryAreNamed) {
+  // Finite data whose products overflow, a conductivity whose stiffness
+  // underflows, and a Robin coefficient so large against k / h that the
+  // system is singular to rounding (CG then met p.Ap < 0 at iteration 1,035).
+  PoissonProblem p = square_with_parts();
+  p.source = 1e200 * (1.0 + x * x);
+  DataError huge = poisson_error(p);
+  EXPECT_EQ(huge.datum(), "/source");
+  EXPECT_NE(std::string(huge.what()).find("overflow"), std::string::npos) << huge.what();
+  p = square_with_parts();
+  p.conductivity = 1e-200;
+  EXPECT_EQ(poisson_error(p).datum(), "/conductivity");
+  p = square_with_parts();
+  p.parts[0].beta = 1e30;
+  const DataError biot = poisson_error(p);
+  EXPECT_EQ(biot.datum(), "/boundary/bottom/beta");
+  EXPECT_NE(std::string(biot.what()).find("beta h / k"), std::string::npos) << biot.what();
+  p.conductivity = 1e25;  // the same beta against a conductivity that large is a Robin condition
+  EXPECT_NO_THROW(solve_poisson<2>(p, coarse(0.25)));
+}
+
 TEST(DataCheck, StructureRouteReadsDirichletValuesThroughoutTheDomain) {
   // sqrt(0.5 - y) is finite on the bottom edge, but the structure's
   // extension g~ evaluates every Dirichlet value inside the domain too,

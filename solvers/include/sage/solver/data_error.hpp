@@ -32,6 +32,17 @@ class DataError : public std::invalid_argument {
   std::optional<std::array<double, 3>> point_;
 };
 
+/// The largest magnitude of a datum: beyond it the assembly's products
+/// (data times data, B-splines and weights) overflow double precision.
+constexpr double kLargestDatum = 1e100;
+/// The smallest conductivity (and Young's modulus): below it the stiffness
+/// underflows.
+constexpr double kSmallestModulus = 1e-100;
+/// The largest Robin coefficient relative to the conductivity, beta h / k:
+/// beyond it the condition is a Dirichlet condition to rounding, and the
+/// system's condition number exceeds what double precision resolves.
+constexpr double kLargestBiotNumber = 1e10;
+
 /// A part name as one token of a JSON pointer (RFC 6901: "~" as "~0", "/" as "~1").
 std::string pointer_token(const std::string& name);
 

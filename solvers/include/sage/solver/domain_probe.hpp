@@ -11,6 +11,7 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 namespace sage::solver {
 
@@ -27,6 +28,7 @@ class DomainProbe {
     if constexpr (D == 3) {
       if (mesh_) return mesh_->signed_distance({x[0], x[1], x[2]}, band_);
     }
+    if (!field_) throw std::logic_error("DomainProbe: neither a domain field nor a mesh");
     field_->evaluate(x);
     return field_->result();
   }

@@ -13,6 +13,8 @@
 // in 3D, gamma_ab = 2 eps_ab; sigma_v = C eps_v in the same order, and the
 // energy density is eps_v . C eps_v / 2.
 
+#include <sage/solver/data_error.hpp>
+
 #include <Eigen/Core>
 
 #include <array>
@@ -46,10 +48,13 @@ struct ElasticMaterial {
   double poisson = 0.3;
   PlaneMode plane = PlaneMode::Strain;  // 2D only
 
-  /// Throws std::invalid_argument unless E > 0 and -1 < nu < 1/2.
+  /// Throws std::invalid_argument unless E > 0 (within kSmallestModulus
+  /// and kLargestDatum, where the stiffness neither under- nor overflows)
+  /// and -1 < nu < 1/2.
   void check() const {
-    if (!(young > 0.0) || !std::isfinite(young))
-      throw std::invalid_argument("Young's modulus E must be positive, not " + std::to_string(young));
+    if (!(young >= kSmallestModulus && young <= kLargestDatum))
+      throw std::invalid_argument(young > 0.0 ? "Young's modulus E must lie within 1e-100 and 1e100 (change the units)"
+                                              : "Young's modulus E must be positive");
     if (!(poisson > -1.0 && poisson < 0.5))
       throw std::invalid_argument("Poisson's ratio nu must lie in (-1, 0.5), not " + std::to_string(poisson));
   }
