@@ -1,14 +1,28 @@
 #pragma once
-// Running the `sage` program from tests: exit code and all output, and
-// scratch files in the test process's own temporary folder.
+// Running the `sage` program from tests: exit code and all output, scratch
+// files in the test process's own temporary folder, numbers of the printed
+// summary, and the VTK files it writes read back.
 
 #include <sys/wait.h>
 
+#include <vtkDataArray.h>
+#include <vtkDataSet.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLImageDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <test_files.hpp>
 
@@ -38,6 +52,41 @@ inline std::string write_file(const std::string& name, const std::string& text) 
   const fs::path p = scratch(name);
   std::ofstream(p) << text;
   return p.string();
+}
+
+/// The number printed right after `label` in `output` (NaN when `label` is missing).
+inline double number_after(const std::string& output, const std::string& label) {
+  const auto at = output.find(label);
+  if (at == std::string::npos) return std::nan("");
+  try {
+    return std::stod(output.substr(at + label.size()));
+  } catch (const std::exception&) {
+    return std::nan("");
+  }
+}
+
+/// A .vtu file as VTK reads it back.
+inline vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& path) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+/// A .vti file as VTK reads it back.
+inline vtkSmartPointer<vtkImageData> read_vti(const fs::path& path) {
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  return reader->GetOutput();
+}
+
+/// The values of a one-component point array (empty when it is missing).
+inline std::vector<double> point_values(vtkDataSet* data, const char* name) {
+  std::vector<double> values;
+  vtkDataArray* array = data ? data->GetPointData()->GetArray(name) : nullptr;
+  for (vtkIdType i = 0; array && i < array->GetNumberOfTuples(); ++i) values.push_back(array->GetComponent(i, 0));
+  return values;
 }
 
 /// The cube [lo, hi]^3 as 12 outward-oriented triangles (OFF), written to
