@@ -2,6 +2,8 @@
 // .vtu with u, grad_u, omega, u_exact and error whose values agree with the
 // exact solution; named boundary parts, weak conditions and every kind of
 // bad input (naming the file and place, exit 1; usage errors exit 2).
+// Solutions without a closed form meet their boundary conditions point by
+// point.
 
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -13,11 +15,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <iterator>
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -97,6 +104,11 @@ TEST(CliSolve, DiskExampleByDefaultConvergesWithNitsche) {
   EXPECT_LT(printed_l2(fine), 2e-4) << fine.output;
 }
 
+// The quadrature points file (--quadrature-points) holds the rule the
+// solver used: volume points inside the disk less its hole with weights
+// summing to its area, 0.91 pi; surface points on the two circles (both
+// carry weak conditions: Nitsche on the rim, Robin on the hole) with
+// weights summing to each circle's length.
 TEST(CliSolve, NamedPartsWithWeakConditions) {
   const std::string problem = disk_problem(
       "solve_parts.json",
@@ -106,7 +118,40 @@ TEST(CliSolve, NamedPartsWithWeakConditions) {
       run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 16 --quadrature-points " + points.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("surface"), std::string::npos) << r.output;
-  EXPECT_GT(fs::file_size(points), 0u);
+  const auto q = read_vtu(points);
+  const std::vector<double> weight = point_values(q, "weight"), on_surface = point_values(q, "on_surface");
+  ASSERT_EQ(weight.size(), static_cast<std::size_t>(q->GetNumberOfPoints()));
+  ASSERT_EQ(on_surface.size(), weight.size());
+  // The summary counts the same points.
+  const double volume_points = number_after(r.output, "quadrature points: ");
+  const double surface_points = number_after(r.output, " volume, ");
+  double area = 0, rim = 0, hole = 0;
+  std::size_t volume = 0, surface = 0;
+  for (vtkIdType i = 0; i < q->GetNumberOfPoints(); ++i) {
+    double p[3];
+    q->GetPoint(i, p);
+    EXPECT_EQ(p[2], 0.0);
+    const double from_centre = std::hypot(p[0], p[1]), from_hole = std::hypot(p[0] - 0.2, p[1]);
+    const double w = weight[static_cast<std::size_t>(i)];
+    EXPECT_GT(w, 0.0) << "point " << i;
+    if (on_surface[static_cast<std::size_t>(i)] == 0.0) {
+      ++volume;
+      area += w;
+      EXPECT_LE(from_centre, 1.0 + 1e-12) << p[0] << ", " << p[1];
+      EXPECT_GE(from_hole, 0.3 - 1e-12) << p[0] << ", " << p[1];
+    } else {
+      ASSERT_EQ(on_surface[static_cast<std::size_t>(i)], 1.0);
+      ++surface;
+      const bool on_rim = std::abs(from_centre - 1.0) < 1e-9, on_hole = std::abs(from_hole - 0.3) < 1e-9;
+      EXPECT_TRUE(on_rim || on_hole) << p[0] << ", " << p[1];
+      (on_rim ? rim : hole) += w;
+    }
+  }
+  EXPECT_EQ(static_cast<double>(volume), volume_points) << r.output;
+  EXPECT_EQ(static_cast<double>(surface), surface_points) << r.output;
+  EXPECT_NEAR(area, 0.91 * M_PI, 1e-6);
+  EXPECT_NEAR(rim, 2 * M_PI, 1e-5);
+  EXPECT_NEAR(hole, 0.6 * M_PI, 1e-5);
 }
 
 /// The largest |u_a - u_b| over two solutions' points inside the domain
@@ -227,20 +272,153 @@ TEST(CliSolve, RobinBandFlagsReachTheStructure) {
     EXPECT_EQ(run("solve " + problem + " -o " + cut.string() + common + bad).exit_code, 2) << bad;
 }
 
+/// A solution file read back: points, u, grad_u and omega (u_exact when written).
+struct Solution {
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  vtkDataArray *u = nullptr, *grad = nullptr, *omega = nullptr, *exact = nullptr;
+  explicit Solution(const fs::path& path) : grid(read_vtu(path)) {
+    vtkPointData* data = grid->GetPointData();
+    u = data->GetArray("u"), grad = data->GetArray("grad_u"), omega = data->GetArray("omega");
+    exact = data->GetArray("u_exact");
+  }
+  bool complete() const { return u && grad && omega && grid->GetNumberOfPoints() > 0; }
+};
+
+// A pure Neumann problem fixes u up to a constant, and sage fixes the
+// mean of u to 0 (its summary says so). f = 1 on the disk less the hole
+// (area 0.91 pi) balances h = -0.5 on the rim (length 2 pi) and h = 0.15
+// on the hole (length 0.6 pi): u has mean 0 over the domain, and du/dr =
+// -0.5 on the rim. With h = p.(p - c) / 0.6 on the hole (c its centre)
+// instead, u = C - r^2 / 4 solves the problem exactly (degree 2 holds it),
+// and the mean-free one is C = (pi / 2 - 0.00765 pi) / (4 * 0.91 pi).
 TEST(CliSolve, CompatiblePureNeumannIsSolved) {
-  // f = 1 on the disk minus the hole (area 0.91 pi) balances h = -0.5 on the
-  // rim (length 2 pi) and h = 0.15 on the hole (length 0.6 pi).
   const std::string problem = disk_problem("solve_neumann.json", R"({ "rim": { "type": "neumann", "flux": -0.5 },
       "hole": { "type": "neumann", "flux": 0.15 }, "default": { "type": "neumann" } })");
-  const Result r = run("solve " + problem + " -o " + scratch("neumann.vtu").string() + " --degree 2 --cells 16");
+  const fs::path out = scratch("neumann.vtu");
+  const Result r = run("solve " + problem + " -o " + out.string() + " --degree 2 --cells 16 --grid 81x81");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("pure Neumann: compatibility defect"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mean of u fixed to 0"), std::string::npos) << r.output;
+  const Solution s(out);
+  ASSERT_TRUE(s.complete());
+  // The mean over the grid points inside (spacing 0.025) and the rim's
+  // flux at the points within 0.02 of it.
+  double sum = 0, scale = 0, worst_flux = 0;
+  int inside = 0, near_rim = 0;
+  for (vtkIdType i = 0; i < s.grid->GetNumberOfPoints(); ++i) {
+    double p[3];
+    s.grid->GetPoint(i, p);
+    const double r_centre = std::hypot(p[0], p[1]);
+    if (r_centre < 1 && std::hypot(p[0] - 0.2, p[1]) > 0.3) {
+      sum += s.u->GetTuple1(i);
+      scale = std::max(scale, std::abs(s.u->GetTuple1(i)));
+      ++inside;
+    }
+    if (std::abs(r_centre - 1) < 0.02) {
+      const double du_dr = (s.grad->GetComponent(i, 0) * p[0] + s.grad->GetComponent(i, 1) * p[1]) / r_centre;
+      worst_flux = std::max(worst_flux, std::abs(du_dr + 0.5));
+      ++near_rim;
+    }
+  }
+  ASSERT_GT(inside, 3000);
+  ASSERT_GT(near_rim, 100);
+  EXPECT_GT(scale, 0.05);                           // u varies by about 0.25 over the disk
+  EXPECT_LT(std::abs(sum / inside), 0.01 * scale);  // the grid's mean: exact to the sum's cut-off at the circles
+  EXPECT_LT(worst_flux, 0.05);                      // a weak condition: to the discretization error
+
+  const double constant = (0.5 - 0.00765) / (4 * 0.91);
+  const std::string exact = disk_problem("solve_neumann_exact.json", R"({ "rim": { "type": "neumann", "flux": -0.5 },
+      "hole": { "type": "neumann", "flux": "(x*(x-0.2) + y^2)/0.6" }, "default": { "type": "neumann" } })",
+                                         R"(, "exact": ")" + std::to_string(constant) + R"( - (x^2 + y^2)/4")");
+  const fs::path exact_out = scratch("neumann_exact.vtu");
+  const Result e = run("solve " + exact + " -o " + exact_out.string() + " --degree 2 --cells 16 --tolerance 1e-12");
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  EXPECT_LT(printed_l2(e), 1e-5) << e.output;  // u off by its mean (not fixed to 0) gives 0.43
+  const Solution se(exact_out);
+  ASSERT_TRUE(se.complete() && se.exact);
+  for (vtkIdType i = 0; i < se.grid->GetNumberOfPoints(); ++i)
+    if (se.omega->GetTuple1(i) > 0) {
+      EXPECT_NEAR(se.u->GetTuple1(i), se.exact->GetTuple1(i), 1e-5) << "point " << i;
+    }
 }
 
+// The plate heated inside (f = 10) has no closed-form solution, but what it
+// must satisfy is checked point by point, at output points that lie on the
+// boundary (spacing 0.04): u = 0 on the outer edge (weakly, by Nitsche's
+// method), k du/dn + 5 u = 0 on the holes (Robin; n out of the plate, k =
+// 1 + x^2 / 2), k du/dn = 0 on the slot (insulated), each to the
+// discretization's error; u >= 0 inside (maximum principle); and u(x, y)
+// = u(-x, y) (plate, holes and k are symmetric).
 TEST(CliSolve, PlateExampleRuns) {
+  const fs::path out = scratch("plate.vtu");
   const Result r =
-      run("solve " + problems("plate_heat.json") + " -o " + scratch("plate.vtu").string() + " --degree 2 --cells 24");
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+      run("solve " + problems("plate_heat.json") + " -o " + out.string() + " --degree 3 --cells 48 --grid 111x61");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Solution s(out);
+  ASSERT_TRUE(s.complete());
+  // The file holds the grid cells that meet the plate: index its points by
+  // grid position, (x, y) = (-2.2 + 0.04 i, -1.2 + 0.04 j).
+  std::map<std::pair<long, long>, vtkIdType> at;
+  for (vtkIdType n = 0; n < s.grid->GetNumberOfPoints(); ++n) {
+    double p[3];
+    s.grid->GetPoint(n, p);
+    at[{std::lround((p[0] + 2.2) / 0.04), std::lround((p[1] + 1.2) / 0.04)}] = n;
+  }
+  double highest = 0, lowest = 0;
+  for (vtkIdType n = 0; n < s.grid->GetNumberOfPoints(); ++n)
+    if (s.omega->GetTuple1(n) > 0) {
+      highest = std::max(highest, s.u->GetTuple1(n));
+      lowest = std::min(lowest, s.u->GetTuple1(n));
+    }
+  double edge = 0, asymmetry = 0, robin = 0, robin_scale = 0, slot = 0, slot_scale = 0;
+  int edge_points = 0, mirrored = 0, robin_points = 0, slot_points = 0;
+  for (const auto& [ij, n] : at) {
+    const auto [i, j] = ij;
+    double p[3];
+    s.grid->GetPoint(n, p);
+    const double u = s.u->GetTuple1(n), gx = s.grad->GetComponent(n, 0), gy = s.grad->GetComponent(n, 1),
+                 k = 1 + 0.5 * p[0] * p[0];
+    if (((i == 5 || i == 105) && j >= 5 && j <= 55) || ((j == 5 || j == 55) && i >= 5 && i <= 105)) {
+      edge = std::max(edge, std::abs(u));  // x = +-2 or y = +-1
+      ++edge_points;
+    }
+    const auto mirror = at.find({110 - i, j});
+    if (s.omega->GetTuple1(n) >= 0 && mirror != at.end()) {
+      asymmetry = std::max(asymmetry, std::abs(u - s.u->GetTuple1(mirror->second)));
+      ++mirrored;
+    }
+    for (const double cx : {-1.2, 1.2}) {  // 12 points on each circle: (0.4, 0), (0.32, 0.24), ... from the centre
+      const double d = std::hypot(p[0] - cx, p[1]);
+      if (std::abs(d - 0.4) > 1e-9) continue;
+      const double du_dn = -(gx * (p[0] - cx) + gy * p[1]) / d;  // n points into the hole
+      robin = std::max(robin, std::abs(k * du_dn + 5 * u));
+      robin_scale = std::max(robin_scale, std::abs(5 * u));
+      ++robin_points;
+    }
+    // The slot (x / 0.5)^2 + ((y - 0.6) / 0.2)^2 = 1, at (0, 0.6 +- 0.2) and
+    // (+-0.4, 0.6 +- 0.12); n along minus the gradient of that level set.
+    const double ex = p[0] / 0.5, ey = (p[1] - 0.6) / 0.2;
+    if (std::abs(ex * ex + ey * ey - 1) < 1e-9) {
+      const double nx = -ex / 0.5, ny = -ey / 0.2;
+      slot = std::max(slot, std::abs(k * (gx * nx + gy * ny) / std::hypot(nx, ny)));
+      slot_scale = std::max(slot_scale, std::hypot(gx, gy));
+      ++slot_points;
+    }
+  }
+  std::cout << "[ plate ] max u " << highest << ", min " << lowest << ", on the edge " << edge << ", asymmetry "
+            << asymmetry << ", Robin residual " << robin << " of " << robin_scale << ", slot flux " << slot << " of "
+            << slot_scale << "\n";
+  ASSERT_EQ(edge_points, 2 * 51 + 2 * 101 - 4);
+  ASSERT_GT(mirrored, 3000);
+  ASSERT_EQ(robin_points, 24);
+  ASSERT_EQ(slot_points, 6);
+  EXPECT_GT(highest, 1.0);
+  EXPECT_GT(lowest, -5e-3 * highest);
+  EXPECT_LT(edge, 1e-3 * highest);
+  EXPECT_LT(asymmetry, 2e-3 * highest);   // the WEB extension's choices are not symmetric: 8e-4 here
+  EXPECT_GT(robin_scale, 0.5 * highest);  // the holes are warm: u = 0 would not meet the condition
+  EXPECT_LT(robin, 0.02 * robin_scale);
+  EXPECT_LT(slot, 0.05 * slot_scale);
 }
 
 TEST(CliSolve, BallWithRobinIn3D) {
@@ -251,7 +429,22 @@ TEST(CliSolve, BallWithRobinIn3D) {
   EXPECT_EQ(r.output.find("condition estimate"), std::string::npos) << r.output;  // off in 3D by default
   ASSERT_GT(printed_l2(r), 0.0) << r.output;
   EXPECT_LT(printed_l2(r), 1e-4) << r.output;  // u is in the spline space
-  EXPECT_GT(fs::file_size(out), 0u);
+  // The file: u = 2 - r^2 at the points inside, u_exact the same.
+  const Solution s(out);
+  ASSERT_TRUE(s.complete() && s.exact);
+  int inside = 0;
+  for (vtkIdType i = 0; i < s.grid->GetNumberOfPoints(); ++i) {
+    double p[3];
+    s.grid->GetPoint(i, p);
+    if (s.omega->GetTuple1(i) <= 0) continue;
+    const double r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    ASSERT_LT(r2, 1.0 + 1e-9);
+    EXPECT_NEAR(s.exact->GetTuple1(i), 2 - r2, 1e-12);
+    EXPECT_NEAR(s.u->GetTuple1(i), 2 - r2, 1e-3);
+    EXPECT_NEAR(s.grad->GetComponent(i, 2), -2 * p[2], 1e-2);
+    ++inside;
+  }
+  EXPECT_GT(inside, 1000);
 }
 
 TEST(CliSolve, MeshDomainByItsTriangles) {
