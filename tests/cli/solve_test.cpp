@@ -3,7 +3,8 @@
 // exact solution; named boundary parts, weak conditions and every kind of
 // bad input (naming the file and place, exit 1; usage errors exit 2).
 // Solutions without a closed form meet their boundary conditions point by
-// point.
+// point; --solver, --nitsche-penalty and --basis reach the solver (the
+// summary names what ran, and the solution changes, or not, as it should).
 
 #include <vtkDataArray.h>
 #include <vtkNew.h>
@@ -17,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -513,6 +515,136 @@ TEST(CliSolve, LakeWithIslandsAsTheDomain) {
   }
   EXPECT_GT(highest, 0.0);
   EXPECT_GT(lowest, -0.05 * highest);
+}
+
+/// The values of u in a solution file.
+std::vector<double> u_values(const fs::path& path) { return point_values(read_vtu(path), "u"); }
+
+/// The largest difference of two equally long lists, 1e300 when they differ in length or are empty.
+double largest_gap(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty() || a.size() != b.size()) return 1e300;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(a[i] - b[i]));
+  return worst;
+}
+
+// --solver picks the linear solver, and the summary names the one that
+// ran: in 2D auto is conjugate gradients with incomplete Cholesky; direct
+// is one sparse LDLT solve; jacobi needs more iterations than incomplete
+// Cholesky. All give the same solution (to the residual asked for).
+TEST(CliSolve, EveryLinearSolverIsUsedAndAgrees) {
+  struct Expect {
+    std::string solver, line;
+  };
+  const Expect cases[] = {{"auto", "solver: conjugate gradients, incomplete Cholesky, "},
+                          {"direct", "solver: sparse LDLT (AMD ordering), 1 iteration\n"},
+                          {"cg", "solver: conjugate gradients, incomplete Cholesky, "},
+                          {"jacobi", "solver: conjugate gradients, Jacobi, "}};
+  std::vector<double> reference;
+  double iterations_cg = 0, iterations_jacobi = 0;
+  for (const Expect& c : cases) {
+    const fs::path out = scratch("solver_" + c.solver + ".vtu");
+    const Result r = run("solve " + problems("disk.json") + " -o " + out.string() +
+                         " --degree 2 --cells 16 --tolerance 1e-12 --solver " + c.solver);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(c.line), std::string::npos) << c.solver << "\n" << r.output;
+    EXPECT_LT(printed_l2(r), 5e-3) << r.output;  // degree 2, 16 cells: 4.2e-3
+    if (c.solver == "cg") iterations_cg = number_after(r.output, "incomplete Cholesky, ");
+    if (c.solver == "jacobi") iterations_jacobi = number_after(r.output, "Jacobi, ");
+    const std::vector<double> u = u_values(out);
+    if (reference.empty()) {
+      reference = u;
+      ASSERT_GT(reference.size(), 1000u);
+    } else {
+      EXPECT_LT(largest_gap(u, reference), 1e-8) << c.solver;
+    }
+  }
+  EXPECT_GT(iterations_jacobi, iterations_cg);
+  EXPECT_EQ(run("solve " + problems("disk.json") + " -o " + scratch("x.vtu").string() + " --solver lu").exit_code, 2);
+}
+
+// In 3D the automatic solver is conjugate gradients with Jacobi, switched
+// to incomplete Cholesky when Jacobi would take too long: a Nitsche penalty
+// of 10^6 (the default is 36 at degree 2) makes the system so stiff that it
+// switches, and the summary says so. The solution is still u = R^2 - |p - c|^2 (in the
+// spline space), while --solver jacobi gives up on the same system.
+TEST(CliSolve, ThreeDimensionalAutoSolverSwitchesToIncompleteCholesky) {
+  const std::string problem = write_file("ball_dirichlet.json", R"({
+  "domain": { "dimension": 3, "bounds": { "min": [-1, -1, -1], "max": [1, 1, 1] },
+              "field": { "primitive": "ball", "center": [0.01, 0.02, 0.03], "radius": 0.97 } },
+  "source": 6,
+  "boundary": { "default": { "type": "dirichlet", "value": 0 } },
+  "exact": "0.9409 - (x - 0.01)^2 - (y - 0.02)^2 - (z - 0.03)^2" })");
+  const std::string common = " --degree 2 --cells 8 --tolerance 1e-12";
+  const Result plain = run("solve " + problem + " -o " + scratch("ball_plain.vtu").string() + common);
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_NE(plain.output.find("solver: conjugate gradients, Jacobi, "), std::string::npos) << plain.output;
+  EXPECT_LT(printed_l2(plain), 1e-5) << plain.output;
+  const Result stiff =
+      run("solve " + problem + " -o " + scratch("ball_stiff.vtu").string() + common + " --nitsche-penalty 1e6");
+  ASSERT_EQ(stiff.exit_code, 0) << stiff.output;
+  EXPECT_NE(stiff.output.find("Nitsche penalty 1e+06 / h"), std::string::npos) << stiff.output;
+  EXPECT_NE(stiff.output.find("solver: conjugate gradients, Jacobi (200 iterations, too slow), then incomplete "
+                              "Cholesky"),
+            std::string::npos)
+      << stiff.output;
+  EXPECT_LT(printed_l2(stiff), 1e-5) << stiff.output;
+  const Result jacobi = run("solve " + problem + " -o " + scratch("ball_jacobi.vtu").string() + common +
+                            " --nitsche-penalty 1e6 --solver jacobi");
+  EXPECT_EQ(jacobi.exit_code, 1) << jacobi.output;
+  EXPECT_NE(jacobi.output.find("did not converge"), std::string::npos) << jacobi.output;
+}
+
+// --nitsche-penalty reaches the solver: the summary states it, the
+// solution changes (the penalty weighs the boundary condition against the
+// equation), and it stays as accurate as with the default.
+TEST(CliSolve, NitschePenaltyReachesTheSolver) {
+  const std::string common = " --degree 2 --cells 16 --tolerance 1e-12";
+  const fs::path standard = scratch("nitsche_default.vtu"), firm = scratch("nitsche_firm.vtu");
+  const Result a = run("solve " + problems("disk.json") + " -o " + standard.string() + common);
+  const Result b = run("solve " + problems("disk.json") + " -o " + firm.string() + common + " --nitsche-penalty 400");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(a.output.find("Nitsche penalty 36 / h"), std::string::npos) << a.output;  // 4 (2 + 1)^2
+  EXPECT_NE(b.output.find("Nitsche penalty 400 / h"), std::string::npos) << b.output;
+  EXPECT_GT(largest_difference(standard, firm), 1e-4);
+  EXPECT_LT(printed_l2(b), 2 * printed_l2(a)) << a.output << b.output;
+  EXPECT_EQ(
+      run("solve " + problems("disk.json") + " -o " + scratch("x.vtu").string() + " --nitsche-penalty 0").exit_code, 2);
+}
+
+// --basis: WEB-splines have an unknown for each inner B-spline (the outer
+// ones are extrapolated from them); weighted B-splines one for every
+// B-spline that meets the domain, and take Dirichlet conditions by the
+// structure (Nitsche needs the WEB extension). Both converge to the disk's
+// exact solution; their solutions differ.
+TEST(CliSolve, BasisWebOrWeighted) {
+  struct Run {
+    Result result;
+    double unknowns = 0, inner = 0, outer = 0;
+  };
+  auto solve = [](const std::string& basis, const fs::path& out) {
+    Run r{run("solve " + problems("disk.json") + " -o " + out.string() + " --degree 2 --cells 16 --basis " + basis)};
+    const auto at = r.result.output.find("unknowns: ");
+    if (at != std::string::npos)  // "unknowns: N (I inner B-splines, O outer), ..."
+      std::sscanf(r.result.output.c_str() + at, "unknowns: %lf (%lf inner B-splines, %lf outer)", &r.unknowns, &r.inner,
+                  &r.outer);
+    return r;
+  };
+  const fs::path web_out = scratch("basis_web.vtu"), weighted_out = scratch("basis_weighted.vtu");
+  const Run web = solve("web", web_out), weighted = solve("weighted", weighted_out);
+  ASSERT_EQ(web.result.exit_code, 0) << web.result.output;
+  ASSERT_EQ(weighted.result.exit_code, 0) << weighted.result.output;
+  EXPECT_NE(web.result.output.find("web basis, Dirichlet by weak (Nitsche)"), std::string::npos) << web.result.output;
+  EXPECT_NE(weighted.result.output.find("weighted basis, Dirichlet by structure"), std::string::npos)
+      << weighted.result.output;
+  ASSERT_GT(web.outer, 0) << web.result.output;
+  EXPECT_EQ(web.unknowns, web.inner) << web.result.output;
+  EXPECT_EQ(weighted.unknowns, weighted.inner + weighted.outer) << weighted.result.output;
+  EXPECT_EQ(weighted.inner, web.inner);  // the same grid and domain
+  EXPECT_LT(printed_l2(web.result), 1e-2) << web.result.output;
+  EXPECT_LT(printed_l2(weighted.result), 1e-2) << weighted.result.output;
+  EXPECT_GT(largest_difference(web_out, weighted_out), 1e-4);
 }
 
 TEST(CliSolve, BadInputNamesFileAndPlace) {
