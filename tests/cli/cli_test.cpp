@@ -24,7 +24,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -139,11 +142,41 @@ TEST(Cli, SharpBoundedUnionHasItsLevelCOnTheCorner) {
   EXPECT_EQ(on_corner, 7);  // (0.5, 0.2) ... (0.5, 0.5) ... (0.2, 0.5); (0.5, 0.1) is below 20 degrees
 }
 
+// A 3D field goes to image data (.vti): the grid of the model's bounds,
+// and omega's sign is the solid's membership, (torus OR post) AND NOT
+// scoop, at every grid point not within 1e-6 of a surface.
 TEST(Cli, FieldWritesImageDataFor3D) {
   const fs::path out = scratch("torus.vti");
   const Result r = run("field " + model("primitives_3d.json") + " -o " + out.string() + " --grid 8x8x8 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GT(fs::file_size(out), 0u);
+  const auto image = read_vti(out);
+  int dims[3];
+  image->GetDimensions(dims);
+  EXPECT_EQ(dims[0], 8);
+  EXPECT_EQ(dims[1], 8);
+  EXPECT_EQ(dims[2], 8);
+  double bounds[6];
+  image->GetBounds(bounds);
+  const double expected[6] = {-1.6, 1.6, -1.6, 1.6, -1.0, 1.0};  // the model's "bounds"
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(bounds[k], expected[k], 1e-12) << k;
+  const std::vector<double> omega = point_values(image, "omega");
+  ASSERT_EQ(omega.size(), 512u);
+  ASSERT_TRUE(image->GetPointData()->GetArray("grad_omega"));
+  int inside = 0, outside = 0;
+  for (vtkIdType i = 0; i < 512; ++i) {
+    double p[3];
+    image->GetPoint(i, p);
+    const double rho = std::hypot(p[0], p[1]);
+    const double torus = 0.09 - (std::pow(rho - 1.1, 2) + p[2] * p[2]);   // > 0 inside
+    const double post = std::min(0.25 - rho * rho, 0.64 - p[2] * p[2]);   // > 0 inside
+    const double scoop = 0.2025 - (rho * rho + std::pow(p[2] - 0.9, 2));  // > 0 inside
+    if (std::min({std::abs(torus), std::abs(post), std::abs(scoop)}) < 1e-6) continue;
+    const bool solid = (torus > 0 || post > 0) && scoop < 0;
+    EXPECT_EQ(omega[static_cast<std::size_t>(i)] > 0, solid) << p[0] << ", " << p[1] << ", " << p[2];
+    (solid ? inside : outside) += 1;
+  }
+  EXPECT_GT(inside, 10);
+  EXPECT_GT(outside, 100);
 }
 
 TEST(Cli, InfoSummarizesAModel) {
@@ -162,9 +195,37 @@ TEST(Cli, DemoWritesEveryFile) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
   EXPECT_EQ(files, 16);  // 13 fields, 2 heat solutions and the bracket's stresses
-  EXPECT_TRUE(fs::exists(dir / "island_with_lake.vtu"));
-  EXPECT_TRUE(fs::exists(dir / "block_with_hole.vtu"));
-  EXPECT_TRUE(fs::exists(dir / "bracket.vtu"));
+  // Each file holds what its job wrote: fields omega and derivatives up to
+  // their order; the plate under min/max and R0 has one zero set but other
+  // values; the heat solutions u; the bracket its stresses.
+  for (const char* name : {"fig9_solid_r0.vtu", "island_with_lake.vtu", "plate_minmax.vtu", "plate_r0.vtu"}) {
+    const auto g = read_vtu(dir / name);
+    EXPECT_TRUE(g->GetPointData()->GetArray("omega") && g->GetPointData()->GetArray("grad_omega")) << name;
+    double range[2] = {0, 0};
+    if (vtkDataArray* omega = g->GetPointData()->GetArray("omega")) omega->GetRange(range);
+    EXPECT_LT(range[0], 0.0) << name;
+    EXPECT_GT(range[1], 0.0) << name;
+  }
+  EXPECT_TRUE(read_vtu(dir / "fig9_solid_r0.vtu")->GetPointData()->GetArray("d2_omega"));  // order 2
+  const std::vector<double> minmax = point_values(read_vtu(dir / "plate_minmax.vtu"), "omega"),
+                            r0 = point_values(read_vtu(dir / "plate_r0.vtu"), "omega");
+  ASSERT_EQ(minmax.size(), r0.size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < r0.size(); ++i) {
+    differ += std::abs(minmax[i] - r0[i]) > 1e-6;
+    if (std::abs(minmax[i]) > 1e-9 && std::abs(r0[i]) > 1e-9) {
+      EXPECT_EQ(minmax[i] > 0, r0[i] > 0) << i;
+    }
+  }
+  EXPECT_GT(differ, r0.size() / 10);
+  for (const char* name : {"plate_heat.vtu", "block_with_hole.vtu"}) {
+    const std::vector<double> u = point_values(read_vtu(dir / name), "u");
+    ASSERT_FALSE(u.empty()) << name;
+    EXPECT_GT(*std::max_element(u.begin(), u.end()), 0.0) << name;  // heated inside
+  }
+  const auto bracket = read_vtu(dir / "bracket.vtu");
+  for (const char* array : {"displacement", "stress", "von_mises"})
+    EXPECT_TRUE(bracket->GetPointData()->GetArray(array)) << array;
 }
 
 // ---- bad input: message names the file and place, exit code non-zero ----------
@@ -306,10 +367,45 @@ TEST(CliGeometry, FarFieldApproximationIsTheDefaultAndRecorded) {
   EXPECT_NE(solid.output.find("exact evaluation"), std::string::npos) << solid.output;
 }
 
+/// Where `sage info` says longitude/latitude data was projected: the
+/// centre (lat, lon) of the local azimuthal equidistant projection, the
+/// middle of the selected features' longitude/latitude box; NaN when absent.
+std::pair<double, double> projection_centre(const std::string& info) {
+  return {number_after(info, "centred on lat "), number_after(info, ", lon ")};
+}
+
+/// The area where omega > 0 in a 2D field file: points inside times the
+/// area of a grid cell (point spacing in x times in y).
+double area_inside(const fs::path& file) {
+  const auto g = read_vtu(file);
+  const std::vector<double> omega = point_values(g, "omega");
+  double b[6];
+  g->GetBounds(b);
+  const double n = std::sqrt(static_cast<double>(omega.size()));  // square grids only
+  const double cell = (b[1] - b[0]) / (n - 1) * (b[3] - b[2]) / (n - 1);
+  return static_cast<double>(std::count_if(omega.begin(), omega.end(), [](double w) { return w > 0; })) * cell;
+}
+
+// --where "NAME = 'Ashe'" selects Ashe County alone: the projection is
+// centred on Ashe's box (lat 36.412, lon -81.490; its neighbour Alleghany
+// lies at lon -81.13, the state's middle at lon -79.4), the model is one
+// polygon, and the B-rep field's inside has Ashe's area, 1,137 km^2 (by
+// the same count: Alleghany 611, Surry 1,423, all 100 counties 127,000).
 TEST(CliGeometry, ShapefileWhereAndBrep) {
-  const Result r = run("info " + test_data("gis/shapefile_nc/nc.shp") + " --where \"NAME = 'Ashe'\" --method brep");
+  const std::string nc = test_data("gis/shapefile_nc/nc.shp"), ashe = " --where \"NAME = 'Ashe'\"";
+  const Result r = run("info " + nc + ashe + " --method brep");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("trimmed-edge B-rep"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(1 polygon(s), 0 hole(s), 26 edges)"), std::string::npos) << r.output;
+  const auto [lat, lon] = projection_centre(r.output);
+  EXPECT_NEAR(lat, 36.412, 0.005) << r.output;
+  EXPECT_NEAR(lon, -81.490, 0.005) << r.output;
+  const fs::path out = scratch("ashe.vtu");
+  const Result field = run("field " + nc + ashe + " --method brep -o " + out.string() + " --grid 150x150 -q");
+  ASSERT_EQ(field.exit_code, 0) << field.output;
+  const double km2 = area_inside(out) / 1e6;
+  std::cout << "[ Ashe ] " << km2 << " km^2\n";
+  EXPECT_NEAR(km2, 1137, 35);
 }
 
 TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
@@ -318,13 +414,25 @@ TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
 
 // A mesh's trimmed-face field: far faces in single precision by default
 // from 1,024 triangles up (a 3,290-triangle STL part), said and recorded
-// with the deviation measured; --exact turns it off; smaller meshes run
-// exactly (joint, 446).
+// with the deviation measured (at sample points), every value within 1e-9
+// of the diagonal of --exact's and of the same sign; --exact turns it off;
+// smaller meshes run exactly (joint, 446).
 TEST(CliGeometry, MeshField) {
   const fs::path out = scratch("joint.vti");
   const Result r = run("field " + test_data("meshes/joint.off") + " -o " + out.string() + " --grid 10x10x10 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GT(fs::file_size(out), 0u);
+  {
+    const auto joint = read_vti(out);
+    int dims[3];
+    joint->GetDimensions(dims);
+    EXPECT_EQ(dims[0] * dims[1] * dims[2], 1000);
+    const std::vector<double> omega = point_values(joint, "omega");
+    ASSERT_EQ(omega.size(), 1000u);
+    // The box reaches 10% of the diagonal beyond the mesh: its corners are outside.
+    for (const vtkIdType corner : {0, 9, 90, 99, 900, 909, 990, 999})
+      EXPECT_LT(omega[static_cast<std::size_t>(corner)], 0.0) << corner;
+    EXPECT_GT(*std::max_element(omega.begin(), omega.end()), 0.0);
+  }
   auto evaluation = [](const fs::path& file, double& deviation) {
     vtkNew<vtkXMLImageDataReader> reader;
     reader->SetFileName(file.c_str());
@@ -336,16 +444,35 @@ TEST(CliGeometry, MeshField) {
     return e ? e->GetValue(0) : std::string();
   };
   const std::string part = test_data("meshes/occt_sh1.stl");
-  const Result fast = run("field " + part + " -o " + out.string() + " --grid 16x16x16");
+  const fs::path fast_out = scratch("part_fast.vti"), exact_out = scratch("part_exact.vti");
+  const Result fast = run("field " + part + " -o " + fast_out.string() + " --grid 16x16x16");
   EXPECT_NE(fast.output.find("far mesh faces in single precision"), std::string::npos) << fast.output;
   double deviation = -1;
-  EXPECT_NE(evaluation(out, deviation).find("far mesh faces"), std::string::npos);
+  EXPECT_NE(evaluation(fast_out, deviation).find("far mesh faces"), std::string::npos);
   EXPECT_GE(deviation, 0.0);
   EXPECT_LT(deviation, 1e-9);
-  const Result exact = run("field " + part + " -o " + out.string() + " --grid 16x16x16 --exact");
+  const Result exact = run("field " + part + " -o " + exact_out.string() + " --grid 16x16x16 --exact");
   EXPECT_NE(exact.output.find("exact evaluation"), std::string::npos) << exact.output;
-  EXPECT_EQ(evaluation(out, deviation), "exact");
-  EXPECT_EQ(deviation, -1);
+  double none = 0;
+  EXPECT_EQ(evaluation(exact_out, none), "exact");
+  EXPECT_EQ(none, -1);
+  {
+    const auto a = read_vti(fast_out), b = read_vti(exact_out);
+    const std::vector<double> approximate = point_values(a, "omega"), exact_omega = point_values(b, "omega");
+    ASSERT_EQ(approximate.size(), 4096u);
+    ASSERT_EQ(exact_omega.size(), 4096u);
+    double box[6];
+    b->GetBounds(box);
+    const double diagonal = std::hypot(box[1] - box[0], box[3] - box[2], box[5] - box[4]);
+    int inside = 0;
+    for (std::size_t i = 0; i < exact_omega.size(); ++i) {
+      EXPECT_LE(std::abs(approximate[i] - exact_omega[i]), 1e-9 * diagonal) << i;
+      EXPECT_EQ(approximate[i] > 0, exact_omega[i] > 0) << i;
+      inside += exact_omega[i] > 0;
+    }
+    EXPECT_GT(inside, 20);
+    EXPECT_LT(inside, 4096 - 20);
+  }
   const Result small = run("field " + test_data("meshes/joint.off") + " -o " + out.string() + " --grid 16x16x16");
   EXPECT_NE(small.output.find("exact evaluation"), std::string::npos) << small.output;
   EXPECT_EQ(evaluation(out, deviation), "exact");
@@ -354,14 +481,42 @@ TEST(CliGeometry, MeshField) {
   expect_failure("field " + write_file("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n") + " -o " + out.string(), {"bad.off"});
 }
 
+/// An L-shaped prism, ([0, 2] x [0, 1] OR [0, 1] x [0, 2]) x [0, 1], as an OFF file.
+std::string write_l_prism(const std::string& name) {
+  return write_file(name,
+                    "OFF\n12 8 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
+                    "0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n"
+                    "6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n4 0 1 7 6\n4 1 2 8 7\n"
+                    "4 2 3 9 8\n4 3 4 10 9\n4 4 5 11 10\n4 5 0 6 11\n");
+}
+
+/// Checks omega's sign in a .vti of the L-shaped prism against membership
+/// at the grid points off its surface; returns how many were checked.
+int expect_l_prism_signs(const fs::path& file) {
+  const auto image = read_vti(file);
+  const std::vector<double> omega = point_values(image, "omega");
+  int checked = 0;
+  for (vtkIdType i = 0; i < static_cast<vtkIdType>(omega.size()); ++i) {
+    double p[3];
+    image->GetPoint(i, p);
+    auto within = [](double v, double lo, double hi) { return v > lo + 1e-9 && v < hi - 1e-9; };
+    auto beyond = [](double v, double lo, double hi) { return v < lo - 1e-9 || v > hi + 1e-9; };
+    const bool inside = within(p[2], 0, 1) &&
+                        ((within(p[0], 0, 2) && within(p[1], 0, 1)) || (within(p[0], 0, 1) && within(p[1], 0, 2)));
+    const bool outside =
+        beyond(p[2], 0, 1) || beyond(p[0], 0, 2) || beyond(p[1], 0, 2) || (p[0] > 1 + 1e-9 && p[1] > 1 + 1e-9);
+    if (!inside && !outside) continue;
+    EXPECT_EQ(omega[static_cast<std::size_t>(i)] > 0, inside)
+        << file.filename() << " at " << p[0] << ", " << p[1] << ", " << p[2];
+    ++checked;
+  }
+  return checked;
+}
+
 // A non-convex mesh (an L-shaped prism) reaches the convex deficiency CSG
 // through sage info and sage field --method csg --rfunction.
 TEST(CliGeometry, NonConvexMeshCsg) {
-  const std::string path = write_file("l_prism.off",
-                                      "OFF\n12 8 0\n0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n"
-                                      "0 0 1\n2 0 1\n2 1 1\n1 1 1\n1 2 1\n0 2 1\n"
-                                      "6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n4 0 1 7 6\n4 1 2 8 7\n"
-                                      "4 2 3 9 8\n4 3 4 10 9\n4 4 5 11 10\n4 5 0 6 11\n");
+  const std::string path = write_l_prism("l_prism.off");
   const Result info = run("info " + path + " --rfunction rp:2");
   ASSERT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("convex deficiency decomposition"), std::string::npos) << info.output;
@@ -370,7 +525,8 @@ TEST(CliGeometry, NonConvexMeshCsg) {
   const fs::path out = scratch("l_prism.vti");
   const Result r = run("field " + path + " -o " + out.string() + " --method csg --grid 10x10x10 -q");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_GT(fs::file_size(out), 0u);
+  // The notch [1, 2] x [1, 2] is outside (a convex hull alone would fill it).
+  EXPECT_GT(expect_l_prism_signs(out), 400);
 }
 
 }  // namespace
