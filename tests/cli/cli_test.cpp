@@ -1,6 +1,9 @@
 // The `sage` program end to end: it runs as a user runs it, and files it
 // writes load in VTK with the named arrays and the right values. Bad input
-// gives a message naming the file and place, and a non-zero exit.
+// gives a message naming the file and place, and a non-zero exit. Each
+// option that chooses what is read or built (--where, --feature, --layer,
+// --crs, --repair, --no-certify, --orthogonalize, --rfunction) shows its
+// effect in what sage prints or writes.
 
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
@@ -11,6 +14,9 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLImageDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
+
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
 
 #include "cli_support.hpp"
 
@@ -25,6 +31,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -408,6 +416,148 @@ TEST(CliGeometry, ShapefileWhereAndBrep) {
   EXPECT_NEAR(km2, 1137, 35);
 }
 
+// --feature picks features by their 0-based index: 0 is Ashe (the same
+// county as --where "NAME = 'Ashe'"), 2 is Surry (centred 0.79 degrees
+// east); several are united; an index past the end names the count.
+TEST(CliGeometry, FeatureSelectsFeaturesByIndex) {
+  const std::string nc = test_data("gis/shapefile_nc/nc.shp");
+  const Result by_name = run("info " + nc + " --where \"NAME = 'Ashe'\"");
+  const Result first = run("info " + nc + " --feature 0");
+  const Result third = run("info " + nc + " --feature 2");
+  for (const Result* r : {&by_name, &first, &third}) ASSERT_EQ(r->exit_code, 0) << r->output;
+  EXPECT_EQ(projection_centre(first.output), projection_centre(by_name.output)) << first.output;
+  EXPECT_NE(first.output.find("26 edges"), std::string::npos) << first.output;
+  const auto [lat, lon] = projection_centre(third.output);
+  EXPECT_NEAR(lat, 36.40, 0.01) << third.output;
+  EXPECT_NEAR(lon, -80.70, 0.01) << third.output;
+  EXPECT_NE(third.output.find("27 edges"), std::string::npos) << third.output;
+  const Result three = run("info " + nc + " --feature 0 1 2");
+  ASSERT_EQ(three.exit_code, 0) << three.output;
+  EXPECT_NE(three.output.find("united 3 features"), std::string::npos) << three.output;
+  expect_failure("info " + nc + " --feature 100", {"nc.shp", "--feature 100", "the layer has 100 features"});
+}
+
+/// Writes a GeoPackage of one polygon per layer (UTM 33N, metres), with
+/// GDAL's C++ API: each layer a name and its ring's (x, y) corners.
+std::string write_geopackage(
+    const std::string& name,
+    const std::vector<std::pair<std::string, std::vector<std::pair<double, double>>>>& layers) {
+  GDALAllRegister();
+  GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GPKG");
+  if (!driver) throw std::runtime_error("GDAL has no GPKG driver");
+  const fs::path path = scratch(name);
+  fs::remove(path);
+  GDALDatasetUniquePtr dataset(driver->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr));
+  if (!dataset) throw std::runtime_error("cannot create " + path.string());
+  OGRSpatialReference utm;
+  utm.importFromEPSG(32633);
+  for (const auto& [layer_name, corners] : layers) {
+    OGRLayer* layer = dataset->CreateLayer(layer_name.c_str(), &utm, wkbPolygon, nullptr);
+    if (!layer) throw std::runtime_error("cannot create layer " + layer_name);
+    OGRLinearRing ring;
+    for (const auto& [x, y] : corners) ring.addPoint(x, y);
+    ring.closeRings();
+    OGRPolygon polygon;
+    polygon.addRing(&ring);
+    OGRFeatureUniquePtr feature(OGRFeature::CreateFeature(layer->GetLayerDefn()));
+    feature->SetGeometry(&polygon);
+    if (layer->CreateFeature(feature.get()) != OGRERR_NONE) throw std::runtime_error("cannot write " + layer_name);
+  }
+  return path.string();
+}
+
+// --layer picks a layer of a file that holds several: a GeoPackage written
+// here with a square (4 edges, 1 km) in its first layer and a triangle (3
+// edges, 3 km wide) in its second. Without --layer the first is read; a
+// name no layer has is an error naming it.
+TEST(CliGeometry, LayerSelectsALayerOfAGeoPackage) {
+  const std::string gpkg = write_geopackage(
+      "two_layers.gpkg", {{"square", {{500000, 6500000}, {501000, 6500000}, {501000, 6501000}, {500000, 6501000}}},
+                          {"triangle", {{510000, 6500000}, {513000, 6500000}, {511500, 6502000}}}});
+  const Result first = run("info " + gpkg);
+  const Result square = run("info " + gpkg + " --layer square");
+  const Result triangle = run("info " + gpkg + " --layer triangle");
+  for (const Result* r : {&first, &square, &triangle}) ASSERT_EQ(r->exit_code, 0) << r->output;
+  EXPECT_NE(first.output.find("(1 polygon(s), 0 hole(s), 4 edges)"), std::string::npos) << first.output;
+  EXPECT_NE(square.output.find("(1 polygon(s), 0 hole(s), 4 edges)"), std::string::npos) << square.output;
+  EXPECT_NE(triangle.output.find("(1 polygon(s), 0 hole(s), 3 edges)"), std::string::npos) << triangle.output;
+  // The bounds: the triangle's box with a margin of 5% of its diagonal (3,606 m).
+  // (Printed to 6 digits: to the metre here.)
+  EXPECT_NEAR(number_after(triangle.output, "bounds:      ["), 510000 - 0.05 * std::hypot(3000, 2000), 1)
+      << triangle.output;
+  EXPECT_NEAR(number_after(square.output, "bounds:      ["), 500000 - 0.05 * std::hypot(1000, 1000), 1)
+      << square.output;
+  expect_failure("info " + gpkg + " --layer circle", {"two_layers.gpkg", "no layer named \"circle\""});
+}
+
+// --crs names the data's coordinate system: North Carolina's shapefile
+// without its .prj is taken as planar (with a warning: the numbers look
+// like degrees), its "area" then in square degrees; with --crs EPSG:4267
+// (NAD27, what the .prj says) it is projected and Ashe has its area,
+// 1,137 km^2. On a file with a system of its own, --crs replaces it, and says so.
+TEST(CliGeometry, CrsOptionSetsTheCoordinateSystem) {
+  const fs::path folder = scratch("noprj");
+  fs::create_directories(folder);
+  for (const char* ext : {".shp", ".shx", ".dbf"})
+    fs::copy_file(test_data(std::string("gis/shapefile_nc/nc") + ext), folder / (std::string("nc") + ext),
+                  fs::copy_options::overwrite_existing);
+  const std::string nc = (folder / "nc.shp").string() + " --where \"NAME = 'Ashe'\"";
+  const Result planar = run("info " + nc);
+  const Result nad27 = run("info " + nc + " --crs EPSG:4267");
+  ASSERT_EQ(planar.exit_code, 0) << planar.output;
+  ASSERT_EQ(nad27.exit_code, 0) << nad27.output;
+  EXPECT_NE(planar.output.find("assumed planar"), std::string::npos) << planar.output;
+  EXPECT_NE(planar.output.find("give --crs EPSG:4326"), std::string::npos) << planar.output;
+  EXPECT_NE(nad27.output.find("longitude/latitude (NAD27) projected to azimuthal equidistant"), std::string::npos)
+      << nad27.output;
+  EXPECT_EQ(nad27.output.find("assumed planar"), std::string::npos) << nad27.output;
+  EXPECT_NEAR(projection_centre(nad27.output).second, -81.490, 0.005) << nad27.output;
+  const fs::path degrees = scratch("ashe_degrees.vtu"), metres = scratch("ashe_metres.vtu");
+  ASSERT_EQ(run("field " + nc + " -o " + degrees.string() + " --grid 150x150 -q").exit_code, 0);
+  ASSERT_EQ(run("field " + nc + " --crs EPSG:4267 -o " + metres.string() + " --grid 150x150 -q").exit_code, 0);
+  EXPECT_NEAR(area_inside(degrees), 0.114, 0.01);    // the shapefile's AREA attribute for Ashe
+  EXPECT_NEAR(area_inside(metres) / 1e6, 1137, 35);  // km^2
+  const Result replaced = run("info " + test_data("gis/washington_island_wi_osm.geojson") + " --crs EPSG:4267");
+  ASSERT_EQ(replaced.exit_code, 0) << replaced.output;
+  EXPECT_NE(replaced.output.find("longitude/latitude (NAD27) projected"), std::string::npos) << replaced.output;
+  EXPECT_NE(replaced.output.find("--crs in place of the file's WGS 84"), std::string::npos) << replaced.output;
+  expect_failure("info " + nc + " --crs EPSG:99999", {"--crs EPSG:99999", "PROJ does not know"});
+}
+
+// --repair on the command line: a bow-tie ring (its edges cross at
+// (1000, 1000)) is refused without it, naming the crossing and --repair;
+// with it, GEOS makes it two triangles of 1 km^2 each, and the field's
+// inside has their area.
+TEST(CliGeometry, RepairFlagMakesInvalidPolygonsValid) {
+  const std::string bowtie = write_file("bowtie.geojson", R"({"type": "FeatureCollection",
+      "crs": {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32633"}},
+      "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "Polygon",
+        "coordinates": [[[0, 0], [2000, 2000], [2000, 0], [0, 2000], [0, 0]]]}}]})");
+  expect_failure("info " + bowtie, {"bowtie.geojson", "edges cross", "--repair"});
+  const Result r = run("info " + bowtie + " --repair");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("feature 0 was invalid and was repaired"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("(2 polygon(s), 0 hole(s), 6 edges)"), std::string::npos) << r.output;
+  const fs::path out = scratch("bowtie.vtu");
+  const Result field = run("field " + bowtie + " --repair -o " + out.string() + " --grid 200x200 -q");
+  ASSERT_EQ(field.exit_code, 0) << field.output;
+  EXPECT_NEAR(area_inside(out), 2e6, 0.02 * 2e6);
+}
+
+// sage info certifies a polygon's CSG field well-formed by default and
+// prints the certificate; --no-certify skips it.
+TEST(CliGeometry, NoCertifySkipsTheCertificate) {
+  const std::string island = test_data("gis/washington_island_wi_osm_EPSG3070.geojson");
+  const Result certified = run("info " + island);
+  const Result skipped = run("info " + island + " --no-certify");
+  ASSERT_EQ(certified.exit_code, 0) << certified.output;
+  ASSERT_EQ(skipped.exit_code, 0) << skipped.output;
+  EXPECT_NE(certified.output.find("certified well-formed: no zeros of omega farther than"), std::string::npos)
+      << certified.output;
+  EXPECT_EQ(skipped.output.find("certified"), std::string::npos) << skipped.output;
+  EXPECT_NE(skipped.output.find("method: well-formed CSG"), std::string::npos) << skipped.output;
+}
+
 TEST(CliGeometry, InvalidGisDataNamesTheVertexAndSuggestsRepair) {
   expect_failure("info " + test_data("gis/greece_ne10m.geojson"), {"greece_ne10m.geojson", "vertex", "--repair"});
 }
@@ -527,6 +677,77 @@ TEST(CliGeometry, NonConvexMeshCsg) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // The notch [1, 2] x [1, 2] is outside (a convex hull alone would fill it).
   EXPECT_GT(expect_l_prism_signs(out), 400);
+}
+
+// --orthogonalize reaches a mesh's trimmed-face (B-rep) field: info says
+// so, and the field changes but keeps its sign (the L-shaped prism's
+// membership at every grid point off its surface).
+TEST(CliGeometry, OrthogonalizeChangesTheMeshBrepField) {
+  const std::string path = write_l_prism("l_prism_brep.off");
+  const Result plain_info = run("info " + path + " --method brep");
+  const Result info = run("info " + path + " --method brep --orthogonalize");
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_EQ(plain_info.output.find("orthogonalized"), std::string::npos) << plain_info.output;
+  EXPECT_NE(info.output.find("triangle planes by their extruded regions, orthogonalized"), std::string::npos)
+      << info.output;
+  const fs::path plain = scratch("l_brep.vti"), orthogonal = scratch("l_brep_orthogonal.vti");
+  ASSERT_EQ(run("field " + path + " --method brep -o " + plain.string() + " --grid 10x10x10 -q").exit_code, 0);
+  ASSERT_EQ(run("field " + path + " --method brep --orthogonalize -o " + orthogonal.string() + " --grid 10x10x10 -q")
+                .exit_code,
+            0);
+  EXPECT_GT(expect_l_prism_signs(plain), 400);
+  EXPECT_GT(expect_l_prism_signs(orthogonal), 400);
+  const std::vector<double> a = point_values(read_vti(plain), "omega"), b = point_values(read_vti(orthogonal), "omega");
+  ASSERT_EQ(a.size(), b.size());
+  double largest = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) largest = std::max(largest, std::abs(a[i] - b[i]));
+  EXPECT_GT(largest, 1e-3);
+}
+
+// --rfunction chooses the R-function system of a model's operators: the
+// intersection of the halfplanes x >= 0 and y >= 0 sampled on [0, 1]^2 is
+// min(x, y) under minmax, x + y - sqrt(x^2 + y^2) under r0 (the model's
+// default), that times (x^2 + y^2) under rm:2, and (x + y - sqrt(x^2 + y^2
+// - x y)) / 1.5 under ralpha:0.5, at every point. info names the system,
+// and render's colour map changes with it.
+TEST(Cli, RFunctionOptionChoosesTheSystem) {
+  const std::string m = write_file("quadrant.json", R"({"dimension": 2, "bounds": {"min": [0, 0], "max": [1, 1]},
+      "field": {"op": "intersection", "args": [{"formula": "x"}, {"formula": "y"}]}})");
+  struct System {
+    std::string flag, name;
+    double (*value)(double, double);
+  };
+  const System systems[] = {
+      {"", "r0", [](double x, double y) { return x + y - std::hypot(x, y); }},
+      {" --rfunction minmax", "minmax", [](double x, double y) { return std::min(x, y); }},
+      {" --rfunction rm:2", "rm:2", [](double x, double y) { return (x + y - std::hypot(x, y)) * (x * x + y * y); }},
+      {" --rfunction ralpha:0.5", "ralpha:0.5",
+       [](double x, double y) { return (x + y - std::sqrt(x * x + y * y - x * y)) / 1.5; }},
+  };
+  for (const System& s : systems) {
+    const fs::path out = scratch("quadrant.vtu");
+    const Result r = run("field " + m + " -o " + out.string() + " --grid 11x11 -q --exact" + s.flag);
+    ASSERT_EQ(r.exit_code, 0) << s.name << "\n" << r.output;
+    const auto g = read_vtu(out);
+    const std::vector<double> omega = point_values(g, "omega");
+    ASSERT_EQ(omega.size(), 121u);
+    for (vtkIdType i = 0; i < 121; ++i) {
+      double p[3];
+      g->GetPoint(i, p);
+      EXPECT_NEAR(omega[static_cast<std::size_t>(i)], s.value(p[0], p[1]), 1e-12)
+          << s.name << " at " << p[0] << ", " << p[1];
+    }
+    const Result info = run("info " + m + s.flag);
+    EXPECT_NE(info.output.find("R-function:  " + s.name + " (default"), std::string::npos) << info.output;
+  }
+  const std::string r0_map = scratch("quadrant_r0.png").string(), minmax_map = scratch("quadrant_minmax.png").string();
+  ASSERT_EQ(run("render " + m + " -o " + r0_map + " --size 40x40 -q").exit_code, 0);
+  ASSERT_EQ(run("render " + m + " -o " + minmax_map + " --size 40x40 -q --rfunction minmax").exit_code, 0);
+  std::ifstream a(r0_map, std::ios::binary), b(minmax_map, std::ios::binary);
+  const std::string bytes_a((std::istreambuf_iterator<char>(a)), std::istreambuf_iterator<char>()),
+      bytes_b((std::istreambuf_iterator<char>(b)), std::istreambuf_iterator<char>());
+  EXPECT_GT(bytes_a.size(), 100u);
+  EXPECT_TRUE(bytes_a != bytes_b) << "render ignored --rfunction";
 }
 
 }  // namespace
