@@ -4,7 +4,8 @@
 // contour lies on the circle, so the area between the contour's centre
 // lines matches the closed form (within 0.5%). Every gallery model loads
 // and renders. Bad input gives a clear message and exit code 1 (bad input)
-// or 2 (bad command line).
+// or 2 (bad command line). --shadows darken the ground where a ball hides
+// the light, and --materials colour each named primitive its own colour.
 
 #include <vtkImageData.h>
 #include <vtkNew.h>
@@ -20,6 +21,7 @@
 #include <initializer_list>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -183,6 +185,69 @@ TEST(CliRender, EveryGalleryModelRenders) {
     EXPECT_LT(fraction, 0.9) << entry.path();
   }
   EXPECT_GE(models, 12);
+}
+
+/// A ball above a slab (the ground), both named, seen from straight above
+/// by an orthographic camera: a pixel (px, py) of the 80x80 picture shows
+/// the point x = ((px + 0.5) / 40 - 1) 1.2, y = (1 - (py + 0.5) / 40) 1.2.
+std::string ball_over_ground() {
+  return write_file("ball_over_ground.json", R"({"dimension": 3,
+      "bounds": {"min": [-1, -1, -1], "max": [1, 1, 1]},
+      "field": {"op": "union", "args": [
+        {"name": "ground", "primitive": "box", "min": [-0.9, -0.9, -0.6], "max": [0.9, 0.9, -0.4]},
+        {"name": "ball", "primitive": "ball", "center": [-0.4, 0, 0.3], "radius": 0.25}]}})");
+}
+const std::string kFromAbove = " --size 80x80 --camera ortho,0,0,5,0,0,0,2.4";
+
+double brightness(const unsigned char* c) { return c[0] + c[1] + c[2]; }
+
+// --shadows: with the light from (-1, 0, 1), the ball at x = -0.4 casts its
+// shadow on the ground's top (z = -0.4) around x = -0.4 + 0.7 = 0.3, y = 0
+// (an ellipse of half-axes 0.35 and 0.25). That point is lit without
+// shadows (the ground faces the light at 45 degrees) and takes the ambient
+// light alone with them; the ground beside it (y = 0.6) keeps its light.
+// The summary counts the shadow rays.
+TEST(CliRender, ShadowsDarkenTheGroundUnderTheBall) {
+  const std::string m = ball_over_ground();
+  const std::string plain = scratch("shadows_off.png").string(), shadowed = scratch("shadows_on.png").string();
+  const Result a = run("render " + m + " -o " + plain + kFromAbove + " --light -1,0,1");
+  const Result b = run("render " + m + " -o " + shadowed + kFromAbove + " --light -1,0,1 --shadows");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_NE(a.output.find(" 6400 rays"), std::string::npos) << a.output;  // one per pixel
+  EXPECT_GT(number_after(b.output, "80x80, "), 6400) << b.output;         // and one per lit hit
+  const Picture p = read_png(plain), q = read_png(shadowed);
+  ASSERT_EQ(p.width, 80);
+  ASSERT_EQ(q.width, 80);
+  // x = 0.285, y = 0.015: in the shadow; the ambient light is 0.18 / (0.18 + 0.75 cos 45) of the lit colour.
+  const unsigned char *lit = p.pixel(49, 39), *dark = q.pixel(49, 39);
+  EXPECT_GT(brightness(lit), 300) << "the ground is lit";
+  EXPECT_NEAR(brightness(dark) / brightness(lit), 0.18 / (0.18 + 0.75 * M_SQRT1_2), 0.03);
+  // x = 0.285, y = 0.615: beside the shadow, the same with and without.
+  EXPECT_NEAR(brightness(q.pixel(49, 19)), brightness(p.pixel(49, 19)), 3);
+  // The ball's top (x = -0.39, y = 0.015) sees the light either way.
+  EXPECT_NEAR(brightness(q.pixel(27, 39)), brightness(p.pixel(27, 39)), 3);
+}
+
+// --materials colours each named primitive of the model from a palette:
+// the ground (the first) orange, the ball (the second) blue. Without it
+// both have the one solid colour, warm.
+TEST(CliRender, MaterialsColourEachNamedPrimitive) {
+  const std::string m = ball_over_ground();
+  const std::string plain = scratch("materials_off.png").string(), coloured = scratch("materials_on.png").string();
+  ASSERT_EQ(run("render " + m + " -o " + plain + kFromAbove + " -q").exit_code, 0);
+  const Result r = run("render " + m + " -o " + coloured + kFromAbove + " --materials -q");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Picture p = read_png(plain), q = read_png(coloured);
+  ASSERT_EQ(p.width, 80);
+  ASSERT_EQ(q.width, 80);
+  auto red = [](const unsigned char* c) { return static_cast<int>(c[0]); };
+  auto blue = [](const unsigned char* c) { return static_cast<int>(c[2]); };
+  const unsigned char *ball = q.pixel(27, 39), *ground = q.pixel(60, 60);
+  EXPECT_GT(blue(ball), red(ball) + 40) << "the ball is blue";
+  EXPECT_GT(red(ground), blue(ground) + 40) << "the ground is orange";
+  for (const auto& [x, y] : {std::pair{27, 39}, std::pair{60, 60}})
+    EXPECT_GT(red(p.pixel(x, y)), blue(p.pixel(x, y))) << "one warm colour without --materials";
 }
 
 TEST(CliRender, BadInput) {
