@@ -307,11 +307,12 @@ TEST(CliSolve, CompatiblePureNeumannIsSolved) {
   // flux at the points within 0.02 of it.
   double sum = 0, scale = 0, worst_flux = 0;
   int inside = 0, near_rim = 0;
+  auto on_grid = [](double v) { return std::abs(v - (-1 + 0.025 * std::round((v + 1) / 0.025))) < 1e-9; };
   for (vtkIdType i = 0; i < s.grid->GetNumberOfPoints(); ++i) {
     double p[3];
     s.grid->GetPoint(i, p);
     const double r_centre = std::hypot(p[0], p[1]);
-    if (r_centre < 1 && std::hypot(p[0] - 0.2, p[1]) > 0.3) {
+    if (r_centre < 1 && std::hypot(p[0] - 0.2, p[1]) > 0.3 && on_grid(p[0]) && on_grid(p[1])) {
       sum += s.u->GetTuple1(i);
       scale = std::max(scale, std::abs(s.u->GetTuple1(i)));
       ++inside;
@@ -345,12 +346,13 @@ TEST(CliSolve, CompatiblePureNeumannIsSolved) {
 }
 
 // The plate heated inside (f = 10) has no closed-form solution, but what it
-// must satisfy is checked point by point, at output points that lie on the
-// boundary (spacing 0.04): u = 0 on the outer edge (weakly, by Nitsche's
-// method), k du/dn + 5 u = 0 on the holes (Robin; n out of the plate, k =
-// 1 + x^2 / 2), k du/dn = 0 on the slot (insulated), each to the
-// discretization's error; u >= 0 inside (maximum principle); and u(x, y)
-// = u(-x, y) (plate, holes and k are symmetric).
+// must satisfy is checked point by point, at output points on the boundary
+// (grid points, spacing 0.04, that lie on it, and any point within 1e-3 of
+// it): u = 0 on the outer edge (weakly, by Nitsche's method), k du/dn + 5 u
+// = 0 on the holes (Robin; n out of the plate, k = 1 + x^2 / 2), k du/dn =
+// 0 on the slot (insulated), each to the discretization's error; u >= 0
+// inside (maximum principle); and u(x, y) = u(-x, y) at the grid points
+// (plate, holes and k are symmetric).
 TEST(CliSolve, PlateExampleRuns) {
   const fs::path out = scratch("plate.vtu");
   const Result r =
@@ -358,62 +360,61 @@ TEST(CliSolve, PlateExampleRuns) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const Solution s(out);
   ASSERT_TRUE(s.complete());
-  // The file holds the grid cells that meet the plate: index its points by
-  // grid position, (x, y) = (-2.2 + 0.04 i, -1.2 + 0.04 j).
+  // The grid points among the file's points, by grid position:
+  // (x, y) = (-2.2 + 0.04 i, -1.2 + 0.04 j).
   std::map<std::pair<long, long>, vtkIdType> at;
+  double highest = 0, lowest = 0, edge = 0, robin = 0, robin_scale = 0, slot = 0, slot_scale = 0;
+  int edge_points = 0, robin_points = 0, slot_points = 0;
   for (vtkIdType n = 0; n < s.grid->GetNumberOfPoints(); ++n) {
     double p[3];
     s.grid->GetPoint(n, p);
-    at[{std::lround((p[0] + 2.2) / 0.04), std::lround((p[1] + 1.2) / 0.04)}] = n;
-  }
-  double highest = 0, lowest = 0;
-  for (vtkIdType n = 0; n < s.grid->GetNumberOfPoints(); ++n)
-    if (s.omega->GetTuple1(n) > 0) {
-      highest = std::max(highest, s.u->GetTuple1(n));
-      lowest = std::min(lowest, s.u->GetTuple1(n));
-    }
-  double edge = 0, asymmetry = 0, robin = 0, robin_scale = 0, slot = 0, slot_scale = 0;
-  int edge_points = 0, mirrored = 0, robin_points = 0, slot_points = 0;
-  for (const auto& [ij, n] : at) {
-    const auto [i, j] = ij;
-    double p[3];
-    s.grid->GetPoint(n, p);
+    const long i = std::lround((p[0] + 2.2) / 0.04), j = std::lround((p[1] + 1.2) / 0.04);
+    if (std::abs(p[0] - (-2.2 + 0.04 * i)) < 1e-9 && std::abs(p[1] - (-1.2 + 0.04 * j)) < 1e-9) at[{i, j}] = n;
     const double u = s.u->GetTuple1(n), gx = s.grad->GetComponent(n, 0), gy = s.grad->GetComponent(n, 1),
                  k = 1 + 0.5 * p[0] * p[0];
-    if (((i == 5 || i == 105) && j >= 5 && j <= 55) || ((j == 5 || j == 55) && i >= 5 && i <= 105)) {
-      edge = std::max(edge, std::abs(u));  // x = +-2 or y = +-1
+    if (s.omega->GetTuple1(n) > 0) {
+      highest = std::max(highest, u);
+      lowest = std::min(lowest, u);
+    }
+    const bool on_sides = std::abs(std::abs(p[0]) - 2) < 1e-3 && std::abs(p[1]) <= 1 + 1e-3;
+    if (on_sides || (std::abs(std::abs(p[1]) - 1) < 1e-3 && std::abs(p[0]) <= 2 + 1e-3)) {
+      edge = std::max(edge, std::abs(u));
       ++edge_points;
     }
-    const auto mirror = at.find({110 - i, j});
-    if (s.omega->GetTuple1(n) >= 0 && mirror != at.end()) {
-      asymmetry = std::max(asymmetry, std::abs(u - s.u->GetTuple1(mirror->second)));
-      ++mirrored;
-    }
-    for (const double cx : {-1.2, 1.2}) {  // 12 points on each circle: (0.4, 0), (0.32, 0.24), ... from the centre
+    for (const double cx : {-1.2, 1.2}) {  // on each circle 12 grid points: (0.4, 0), (0.32, 0.24), ... from the centre
       const double d = std::hypot(p[0] - cx, p[1]);
-      if (std::abs(d - 0.4) > 1e-9) continue;
+      if (std::abs(d - 0.4) > 1e-3) continue;
       const double du_dn = -(gx * (p[0] - cx) + gy * p[1]) / d;  // n points into the hole
       robin = std::max(robin, std::abs(k * du_dn + 5 * u));
       robin_scale = std::max(robin_scale, std::abs(5 * u));
       ++robin_points;
     }
-    // The slot (x / 0.5)^2 + ((y - 0.6) / 0.2)^2 = 1, at (0, 0.6 +- 0.2) and
-    // (+-0.4, 0.6 +- 0.12); n along minus the gradient of that level set.
+    // The slot (x / 0.5)^2 + ((y - 0.6) / 0.2)^2 = 1 (grid points (0, 0.6 +- 0.2)
+    // and (+-0.4, 0.6 +- 0.12)); n along minus the gradient of that level set.
     const double ex = p[0] / 0.5, ey = (p[1] - 0.6) / 0.2;
-    if (std::abs(ex * ex + ey * ey - 1) < 1e-9) {
+    if (std::abs(ex * ex + ey * ey - 1) < 5e-3) {
       const double nx = -ex / 0.5, ny = -ey / 0.2;
       slot = std::max(slot, std::abs(k * (gx * nx + gy * ny) / std::hypot(nx, ny)));
       slot_scale = std::max(slot_scale, std::hypot(gx, gy));
       ++slot_points;
     }
   }
-  std::cout << "[ plate ] max u " << highest << ", min " << lowest << ", on the edge " << edge << ", asymmetry "
-            << asymmetry << ", Robin residual " << robin << " of " << robin_scale << ", slot flux " << slot << " of "
-            << slot_scale << "\n";
-  ASSERT_EQ(edge_points, 2 * 51 + 2 * 101 - 4);
+  double asymmetry = 0;
+  int mirrored = 0;
+  for (const auto& [ij, n] : at) {
+    const auto mirror = at.find({110 - ij.first, ij.second});
+    if (s.omega->GetTuple1(n) < 0 || mirror == at.end()) continue;
+    asymmetry = std::max(asymmetry, std::abs(s.u->GetTuple1(n) - s.u->GetTuple1(mirror->second)));
+    ++mirrored;
+  }
+  std::cout << "[ plate ] max u " << highest << ", min " << lowest << ", on the edge " << edge << " (" << edge_points
+            << " points), asymmetry " << asymmetry << ", Robin residual " << robin << " of " << robin_scale << " ("
+            << robin_points << " points), slot flux " << slot << " of " << slot_scale << " (" << slot_points
+            << " points)\n";
+  ASSERT_GE(edge_points, 2 * 51 + 2 * 101 - 4);
   ASSERT_GT(mirrored, 3000);
-  ASSERT_EQ(robin_points, 24);
-  ASSERT_EQ(slot_points, 6);
+  ASSERT_GE(robin_points, 24);
+  ASSERT_GE(slot_points, 6);
   EXPECT_GT(highest, 1.0);
   EXPECT_GT(lowest, -5e-3 * highest);
   EXPECT_LT(edge, 1e-3 * highest);
@@ -438,9 +439,9 @@ TEST(CliSolve, BallWithRobinIn3D) {
   for (vtkIdType i = 0; i < s.grid->GetNumberOfPoints(); ++i) {
     double p[3];
     s.grid->GetPoint(i, p);
-    if (s.omega->GetTuple1(i) <= 0) continue;
+    if (s.omega->GetTuple1(i) <= 1e-6) continue;  // omega = (1 - r^2) / 2
     const double r2 = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
-    ASSERT_LT(r2, 1.0 + 1e-9);
+    ASSERT_LT(r2, 1.0);
     EXPECT_NEAR(s.exact->GetTuple1(i), 2 - r2, 1e-12);
     EXPECT_NEAR(s.u->GetTuple1(i), 2 - r2, 1e-3);
     EXPECT_NEAR(s.grad->GetComponent(i, 2), -2 * p[2], 1e-2);
