@@ -127,15 +127,16 @@ using IncompleteCholesky = Eigen::IncompleteCholesky<double>;
 /// Conjugate gradients with incomplete Cholesky; with Jacobi when the
 /// incomplete factorization finds no positive pivots even after its
 /// shifts (it can, on a positive definite matrix far from diagonally
-/// dominant).
+/// dominant). `before`: what ran first, for the report.
 Eigen::VectorXd incomplete_cholesky_cg(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
                                        double tolerance, SolveReport& report, const std::string& before = "") {
+  const std::string start = before.empty() ? "conjugate gradients, " : before + ", then ";
   IncompleteCholesky factor(system);
   if (factor.info() == Eigen::Success) {
-    report.linear_solver = before + "conjugate gradients, incomplete Cholesky";
+    report.linear_solver = start + "incomplete Cholesky";
     return conjugate_gradients(system, right, tolerance, report, factor).x;
   }
-  report.linear_solver = before + "conjugate gradients, Jacobi (incomplete Cholesky failed: no positive pivots)";
+  report.linear_solver = start + "Jacobi (incomplete Cholesky failed: no positive pivots)";
   return conjugate_gradients(system, right, tolerance, report, Jacobi(system)).x;
 }
 
@@ -170,9 +171,8 @@ Eigen::VectorXd jacobi_then_incomplete_cholesky(const Eigen::SparseMatrix<double
     spent += length;
   }
   if (leg.converged) return leg.x;
-  return incomplete_cholesky_cg(
-      system, right, tolerance, report,
-      "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then ");
+  return incomplete_cholesky_cg(system, right, tolerance, report,
+                                "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow)");
 }
 
 }  // namespace

@@ -369,7 +369,8 @@ TEST(CliSolve, PlateExampleRuns) {
     double p[3];
     s.grid->GetPoint(n, p);
     const long i = std::lround((p[0] + 2.2) / 0.04), j = std::lround((p[1] + 1.2) / 0.04);
-    if (std::abs(p[0] - (-2.2 + 0.04 * i)) < 1e-9 && std::abs(p[1] - (-1.2 + 0.04 * j)) < 1e-9) at[{i, j}] = n;
+    const bool grid_point = std::abs(p[0] - (-2.2 + 0.04 * i)) < 1e-9 && std::abs(p[1] - (-1.2 + 0.04 * j)) < 1e-9;
+    if (grid_point) at[{i, j}] = n;
     const double u = s.u->GetTuple1(n), gx = s.grad->GetComponent(n, 0), gy = s.grad->GetComponent(n, 1),
                  k = 1 + 0.5 * p[0] * p[0];
     if (s.omega->GetTuple1(n) > 0) {
@@ -389,10 +390,12 @@ TEST(CliSolve, PlateExampleRuns) {
       robin_scale = std::max(robin_scale, std::abs(5 * u));
       ++robin_points;
     }
-    // The slot (x / 0.5)^2 + ((y - 0.6) / 0.2)^2 = 1 (grid points (0, 0.6 +- 0.2)
-    // and (+-0.4, 0.6 +- 0.12)); n along minus the gradient of that level set.
+    // The slot (x / 0.5)^2 + ((y - 0.6) / 0.2)^2 = 1 at its grid points
+    // (0, 0.6 +- 0.2) and (+-0.4, 0.6 +- 0.12), away from its tips, whose
+    // radius of curvature (0.08) is below the cell width (0.092): there the
+    // weak condition holds to a larger error. n along minus the gradient.
     const double ex = p[0] / 0.5, ey = (p[1] - 0.6) / 0.2;
-    if (std::abs(ex * ex + ey * ey - 1) < 5e-3) {
+    if (grid_point && std::abs(ex * ex + ey * ey - 1) < 5e-3) {
       const double nx = -ex / 0.5, ny = -ey / 0.2;
       slot = std::max(slot, std::abs(k * (gx * nx + gy * ny) / std::hypot(nx, ny)));
       slot_scale = std::max(slot_scale, std::hypot(gx, gy));
