@@ -58,8 +58,9 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
   } else if (!rest_weak && !s.rest_must_be_empty) {
     if (s.has_weak_parts)
       throw std::invalid_argument(
-          "with Neumann or Robin parts the default boundary condition must not be Dirichlet: name the Dirichlet "
-          "parts and give the default the weak condition");
+          std::string("with Neumann or Robin parts the default boundary condition must not be Dirichlet") +
+          (problem.rest_given ? "" : " (without a \"default\", the boundary no named part claims is Dirichlet u = 0)") +
+          ": name the Dirichlet parts and give the default the weak condition");
     s.dirichlet_weight = problem.domain;
     bool uniform = true;
     for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, problem.rest.value);

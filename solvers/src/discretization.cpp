@@ -218,7 +218,7 @@ ClassifiedGrid<D> classify_grid(DomainCells<D>& cells, const std::array<double, 
 template <int D>
 CellRules<D> integrate_cells(const DomainCells<D>& cells, const ClassifiedGrid<D>& classified,
                              const QuadratureOptions& rule_options, const QuadratureOptions& band_options,
-                             const std::vector<char>& in_band, bool with_surface, SolveReport& report) {
+                             const std::vector<char>& in_band, bool with_surface) {
   const std::vector<std::size_t>& candidates = classified.candidates;
   CellRules<D> rules;
   rules.volume.resize(candidates.size());
@@ -235,13 +235,40 @@ CellRules<D> integrate_cells(const DomainCells<D>& cells, const ClassifiedGrid<D
     }
 #pragma omp critical
     for (const QuadratureCounts* counts : {&rule.counts(), &band_rule.counts()}) {
-      report.masked_boxes += counts->masked_boxes;
-      report.masked_points += counts->masked_points;
-      report.unresolved_surface_boxes += counts->unresolved_surface;
-      report.unbroken_boxes += counts->unbroken_boxes;
+      rules.counts.masked_boxes += counts->masked_boxes;
+      rules.counts.masked_points += counts->masked_points;
+      rules.counts.unresolved_surface += counts->unresolved_surface;
+      rules.counts.unbroken_boxes += counts->unbroken_boxes;
     }
   }
   return rules;
+}
+
+void report_fallbacks(const QuadratureCounts& counts, SolveReport& report) {
+  report.masked_boxes += counts.masked_boxes;
+  report.masked_points += counts.masked_points;
+  report.unresolved_surface_boxes += counts.unresolved_surface;
+  report.unbroken_boxes += counts.unbroken_boxes;
+}
+
+template <int D>
+std::size_t rest_points(const PoissonProblem& problem, const CellRules<D>& rules, double cell_width) {
+  std::vector<Expr> selectors;
+  for (const BoundaryPart& part : problem.parts) selectors.push_back(part.selector);
+  if (selectors.empty()) selectors.push_back(Expr(1.0));  // no named part: a tape of one constant, never near 0
+  const Tape tape(selectors, D);
+  std::size_t rest = 0;
+#pragma omp parallel reduction(+ : rest)
+  {
+    Evaluator<double> eval(tape);
+#pragma omp for schedule(dynamic, 64)
+    for (std::size_t k = 0; k < rules.surface.size(); ++k)
+      for (const auto& s : rules.surface[k]) {
+        eval.evaluate(s.x.data());
+        rest += nearest_part(eval, problem.parts.size(), kSelectorTolerance * cell_width) == problem.parts.size();
+      }
+  }
+  return rest;
 }
 
 template <int D>
@@ -335,7 +362,8 @@ StencilLayout<D>::StencilLayout(int degree) {
                                               const std::array<double, 3>&, double, int, const MemoryNeeds&,           \
                                               SolveReport&);                                                           \
   template CellRules<D> integrate_cells<D>(const DomainCells<D>&, const ClassifiedGrid<D>&, const QuadratureOptions&,  \
-                                           const QuadratureOptions&, const std::vector<char>&, bool, SolveReport&);    \
+                                           const QuadratureOptions&, const std::vector<char>&, bool);                  \
+  template std::size_t rest_points<D>(const PoissonProblem&, const CellRules<D>&, double);                             \
   template SplineBasis<D> basis_on_cells<D>(const DomainCells<D>&, const ClassifiedGrid<D>&, CellRules<D>&, BasisKind, \
                                             SolveReport&);                                                             \
   template QuadratureDump quadrature_dump<D>(const CellRules<D>&);                                                     \

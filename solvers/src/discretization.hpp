@@ -15,6 +15,7 @@
 
 #include <sage/solver/domain_quadrature.hpp>
 #include <sage/solver/mesh_domain.hpp>
+#include <sage/solver/problem.hpp>
 #include <sage/solver/solver_options.hpp>
 #include <sage/solver/web_basis.hpp>
 
@@ -96,20 +97,28 @@ ClassifiedGrid<D> classify_grid(DomainCells<D>& cells, const std::array<double, 
                                 const std::array<double, 3>& max, double cell_width, int degree,
                                 const MemoryNeeds& memory, SolveReport& report);
 
-/// The rules per candidate cell.
+/// The rules per candidate cell, and their fallbacks.
 template <int D>
 struct CellRules {
   std::vector<std::vector<VolumePoint<D>>> volume;
   std::vector<std::vector<SurfacePoint<D>>> surface;
+  QuadratureCounts counts;
 };
 
 /// Stage 2. Cells with in_band[k] (when in_band is not empty) get
 /// `band_rule`, the others `rule`; surface rules only `with_surface`.
-/// Adds the rules' fallbacks to the report.
 template <int D>
 CellRules<D> integrate_cells(const DomainCells<D>& cells, const ClassifiedGrid<D>& classified,
                              const QuadratureOptions& rule, const QuadratureOptions& band_rule,
-                             const std::vector<char>& in_band, bool with_surface, SolveReport& report);
+                             const std::vector<char>& in_band, bool with_surface);
+
+/// Adds the rules' fallbacks to the report.
+void report_fallbacks(const QuadratureCounts& counts, SolveReport& report);
+
+/// The surface points of `rules` that no named part of `problem` claims
+/// (the rest's), by the parts' selectors as the assembly reads them.
+template <int D>
+std::size_t rest_points(const PoissonProblem& problem, const CellRules<D>& rules, double cell_width);
 
 /// Stage 3. Drops the volume points of cells that touch the domain in a
 /// face or an edge only (no weight: their B-splines must not become

@@ -199,7 +199,8 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
   timer.lap(&StageSeconds::classification);
 
-  CellRules<D> rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true, report);
+  CellRules<D> rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
+  report_fallbacks(rules.counts, report);
   const auto& volume = rules.volume;
   const auto& surface = rules.surface;
   timer.lap(&StageSeconds::quadrature);

@@ -313,9 +313,9 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
 }
 
 template <int D>
-PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOptions& options) {
-  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
-  check_solver_options(options, problem.min, problem.max, D);
+PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOptions& options) {
+  if (given.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  check_solver_options(options, given.min, given.max, D);
   PoissonSolution<D> solution;
   SolveReport& report = solution.report;
   StageTimer timer(report);
@@ -323,13 +323,13 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 
   // Field: the domain's pieces and their Boolean formula, compiled (not for
   // mesh domains, whose cells come from the triangles).
-  DomainCells<D> cells(problem.domain, problem.boundary_mesh);
+  DomainCells<D> cells(given.domain, given.boundary_mesh);
   timer.lap(&StageSeconds::field);
 
   // Classification of the background cells.
   const bool direct = options.linear_solver == LinearSolverKind::Direct ||
                       (options.linear_solver == LinearSolverKind::Automatic && options.robin == RobinRoute::Structure);
-  const ClassifiedGrid<D> classified = classify_grid<D>(cells, problem.min, problem.max, options.cell_width, n,
+  const ClassifiedGrid<D> classified = classify_grid<D>(cells, given.min, given.max, options.cell_width, n,
                                                         {direct, 1, options.memory_limit_mb}, report);
   const BackgroundGrid<D>& grid = classified.grid;
   const std::vector<std::size_t>& candidates = classified.candidates;
@@ -343,6 +343,27 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
   const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
   timer.lap(&StageSeconds::classification);
+
+  // Named Neumann and Robin parts and no default: the rest is Dirichlet
+  // u = 0 where it exists, but the named parts may claim the whole
+  // boundary, and then the problem is a Neumann or Robin problem (pure
+  // Neumann without Robin parts). The surface points tell; their rules
+  // serve below unless the Robin structure's band refines some cells.
+  std::optional<CellRules<D>> early_rules;
+  PoissonProblem problem = given;
+  bool named_dirichlet = false, named_weak = false;
+  for (const BoundaryPart& part : given.parts) {
+    named_dirichlet = named_dirichlet || part.kind == BoundaryKind::Dirichlet;
+    named_weak = named_weak || part.kind != BoundaryKind::Dirichlet;
+  }
+  if (!given.rest_given && named_weak && !named_dirichlet) {
+    early_rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
+    if (rest_points(given, *early_rules, classified.grid.h) == 0) {
+      problem.rest.kind = BoundaryKind::Neumann;
+      problem.rest.flux = 0.0;
+      problem.rest_given = true;
+    }
+  }
 
   bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet, has_weak = !has_dirichlet;
   for (const BoundaryPart& part : problem.parts) {
@@ -398,7 +419,10 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& problem, const SolverOpti
 
   // Quadrature: volume rules of inside and cut cells, surface rules where
   // a weak condition may hold.
-  CellRules<D> rules = integrate_cells(cells, classified, quadrature, band_quadrature, in_band, needs_surface, report);
+  CellRules<D> rules = early_rules && !second
+                           ? std::move(*early_rules)
+                           : integrate_cells(cells, classified, quadrature, band_quadrature, in_band, needs_surface);
+  report_fallbacks(rules.counts, report);
   const auto& volume = rules.volume;
   const auto& surface = rules.surface;
   check_data(poisson_data_rules(problem, route == DirichletRoute::Structure), rules, grid.h);

@@ -345,6 +345,38 @@ TEST(CliSolve, CompatiblePureNeumannIsSolved) {
     }
 }
 
+// Named Neumann parts that claim the whole boundary and no "default": the
+// rest (Dirichlet u = 0 where it exists) is empty, so the problem is pure
+// Neumann. It was solved with a weak Dirichlet rest that no point held:
+// u off by an arbitrary constant (L2 0.23, 1e9 with a direct solve), and
+// incompatible data accepted. Where the named parts leave boundary, the
+// rest keeps its Dirichlet condition.
+TEST(CliSolve, NamedNeumannPartsCoveringTheBoundaryArePureNeumann) {
+  const double constant = (0.5 - 0.00765) / (4 * 0.91);
+  const std::string exact = R"(, "exact": ")" + std::to_string(constant) + R"( - (x^2 + y^2)/4")";
+  const std::string covered = disk_problem("covered.json", R"({ "rim": { "type": "neumann", "flux": -0.5 },
+      "hole": { "type": "neumann", "flux": "(x*(x-0.2) + y^2)/0.6" } })",
+                                           exact);
+  for (const char* route : {"weak", "structure"}) {
+    const Result r = run("solve " + covered + " -o " + scratch("covered.vtu").string() +
+                         " --degree 2 --cells 16 --solver direct --dirichlet " + route);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("pure Neumann: compatibility defect"), std::string::npos) << r.output;
+    EXPECT_LT(printed_l2(r), 1e-5) << route << ": " << r.output;
+  }
+  const std::string incompatible = disk_problem(
+      "incompatible.json", R"({ "rim": { "type": "neumann", "flux": 0 }, "hole": { "type": "neumann" } })");
+  const Result refused = run("solve " + incompatible + " -o " + scratch("x.vtu").string() + " --degree 2 --cells 16");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("incompatible Neumann data"), std::string::npos) << refused.output;
+  // Only the hole named: the rim is the rest, u = 0 there.
+  const std::string open = disk_problem("open.json", R"({ "hole": { "type": "neumann", "flux": 0 } })");
+  const Result rest = run("solve " + open + " -o " + scratch("open.vtu").string() + " --degree 2 --cells 16");
+  ASSERT_EQ(rest.exit_code, 0) << rest.output;
+  EXPECT_EQ(rest.output.find("pure Neumann"), std::string::npos) << rest.output;
+  EXPECT_NE(rest.output.find("Nitsche penalty"), std::string::npos) << rest.output;
+}
+
 // The plate heated inside (f = 10) has no closed-form solution, but what it
 // must satisfy is checked point by point, at output points on the boundary
 // (grid points, spacing 0.04, that lie on it, and any point within 1e-3 of
