@@ -365,11 +365,8 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
     }
   }
 
-  bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet, has_weak = !has_dirichlet;
-  for (const BoundaryPart& part : problem.parts) {
-    has_dirichlet = has_dirichlet || part.kind == BoundaryKind::Dirichlet;
-    has_weak = has_weak || part.kind != BoundaryKind::Dirichlet;
-  }
+  const bool has_dirichlet = named_dirichlet || problem.rest.kind == BoundaryKind::Dirichlet;
+  const bool has_weak = named_weak || problem.rest.kind != BoundaryKind::Dirichlet;
   const bool structured = options.robin == RobinRoute::Structure && has_weak;
   if (structured && n < 2)
     throw std::invalid_argument(
