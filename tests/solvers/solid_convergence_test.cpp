@@ -54,10 +54,18 @@ TEST(SolidConvergence, SquareByNitscheAtOptimalRates) {
 }
 
 TEST(SolidConvergence, SquareByTheStructureLosesAnOrder) {
-  // What Nitsche's route is for: omega_D is an R-conjunction with corners.
+  // What Nitsche's route is for: omega_D is an R-conjunction with corners,
+  // where Phi = (u - g~) / omega_D behaves like r f(theta) about each
+  // corner: D^2 Phi ~ 1 / r, so Phi is in H^(2 - eps) only, and the best
+  // approximation converges at H1 rate 1 whatever the degree, L2 rate 2
+  // (duality). Measured L2 2.00 and H1 1.00 at degrees 2 and 3, far below
+  // degree 3's optimal 4 and 3, but converging: the lower bounds fail a
+  // route that stalls.
   const auto runs = study<2>("square", dirichlet_box(2), 3, DirichletRoute::Structure, {16, 32, 64});
   EXPECT_LT(last_rate(runs, l2), 3.0);
   EXPECT_LT(last_rate(runs, h1), 2.0);
+  EXPECT_GE(last_rate(runs, l2), 2.0 - 0.3);
+  EXPECT_GE(last_rate(runs, h1), 1.0 - 0.3);
 }
 
 TEST(SolidConvergence, CubeByNitscheAtOptimalRates) {
