@@ -146,7 +146,11 @@ TEST(Elasticity, StructureRouteReproducesLinearDisplacementAndConverges) {
     errors.push_back(*solve_elasticity<2>(kirsch_plate(), options).results.energy_error);
   }
   std::printf("  Kirsch plate by the structure, degree 3: energy errors %.3e, %.3e\n", errors[0], errors[1]);
-  EXPECT_LT(errors[1], errors[0] / 3.0);
+  // Each roller fixes one component on one straight edge, so each w_c is a
+  // single halfspace field, smooth, and the energy rate is degree 3's
+  // optimal 3 (measured 2.83: 2.745e-3 -> 3.850e-4). Asserted 3 - 0.5, a
+  // factor 5.66 per halving: one order lost (rate 2, a factor 4) fails.
+  EXPECT_LT(errors[1], errors[0] / std::pow(2.0, 3 - 0.5));
   EXPECT_LT(errors[1], 2e-3);
 }
 
