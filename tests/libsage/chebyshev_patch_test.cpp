@@ -296,7 +296,7 @@ TEST(FarFieldApproximation, FarBoxesBecomeOnePatchAndNearBoxesKeepTheirEdges) {
       const test::Point p{test::uniform(rng, (*box)[0].lo, (*box)[0].hi),
                           test::uniform(rng, (*box)[1].lo, (*box)[1].hi), 0};
       const auto a = exact.at(p), b = approximate.at(p);
-      EXPECT_NEAR(a.value(), b.value(), 4e-9);
+      EXPECT_NEAR(a.value(), b.value(), settings.tolerance);  // measured 1.9e-10
       EXPECT_NEAR(a.c[1], b.c[1], 1e-6);
       EXPECT_NEAR(a.c[2], b.c[2], 1e-6);
     }
@@ -371,7 +371,9 @@ TEST(FarFieldApproximation, AFailedFitTriesTheSubtreesBelow) {
   EXPECT_EQ(count_op(*approximated, Op::Patch), 2u);
   EXPECT_EQ(count_op(*approximated, Op::Sqrt), 1u);
   EXPECT_EQ(count_op(*approximated, Op::Add), 1u);
-  expect_close_over_unit_box(tape, *approximated, 1e-9, 1e-6, 12);
+  // Within the tolerance itself (measured 2.1e-11), and the gradient
+  // within n^2 times it (Markov, n <= 14; measured 5.2e-10).
+  expect_close_over_unit_box(tape, *approximated, settings.tolerance, 196 * settings.tolerance, 12);
 }
 
 // The trimmed field of an edge 12 away along its own line: its square
@@ -392,7 +394,7 @@ TEST(FarFieldApproximation, RootsOfSumsOfSquaresAreAnalyticUpToTheirBranchPoints
   ASSERT_TRUE(patched);
   EXPECT_EQ(patched->code().size(), 1u);
   EXPECT_EQ(count_op(*patched, Op::Patch), 1u);
-  expect_close_over_unit_box(far, *patched, 1e-6, 1e-5, 13);
+  expect_close_over_unit_box(far, *patched, settings.tolerance, 1e-5, 13);  // value: measured 1.6e-8
   const Tape through(segment_field({0.5, 0}, {1.5, 0}, TrimMethod::Smooth), 2);
   const std::optional<Tape> kept = TapeSpecializer(through).approximate(box.data(), settings);
   EXPECT_TRUE(!kept || count_op(*kept, Op::Sqrt) == 2u) << "the roots stay exact";
@@ -457,7 +459,9 @@ TEST(FarFieldApproximation, GridSamplingStaysWithinTheTolerance) {
     }
   }
   std::printf("far field: max deviation %.2e of the diagonal, gradient %.2e\n", value / diagonal, gradient);
-  EXPECT_LE(value, 1e-9 * diagonal);
+  // Each patch moves the field by at most the tolerance to first order
+  // (measured 0.95 of it).
+  EXPECT_LE(value, settings.tolerance);
   EXPECT_LE(gradient, 1e-6);
   EXPECT_GT(value, 0.0) << "patches were used (else this test proves nothing)";
 }
