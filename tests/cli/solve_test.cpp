@@ -77,8 +77,10 @@ TEST(CliSolve, DiskExampleReachesItsExactSolution) {
     EXPECT_NEAR(exact->GetTuple1(i), std::sin(M_PI * r2), 1e-12);
     EXPECT_NEAR(error->GetTuple1(i), u->GetTuple1(i) - exact->GetTuple1(i), 1e-15);
     worst = std::max(worst, std::abs(error->GetTuple1(i)));
-    // grad u = 2 pi cos(pi r^2) (x, y)
-    EXPECT_NEAR(grad->GetComponent(i, 0), 2 * M_PI * std::cos(M_PI * r2) * p[0], 0.05);
+    // grad u = 2 pi cos(pi r^2) (x, y), of length up to 2 pi: degree 3 on
+    // cells of 1/8 leaves 5.2e-3 (O(h^3)); 1e-2 is 0.16% of its largest value.
+    for (int a = 0; a < 2; ++a)
+      EXPECT_NEAR(grad->GetComponent(i, a), 2 * M_PI * std::cos(M_PI * r2) * p[a], 1e-2) << "component " << a;
   }
   EXPECT_LT(worst, 1e-3);
   EXPECT_GT(worst, 0.0);  // a real approximation, not the data copied
