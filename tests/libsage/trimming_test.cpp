@@ -283,7 +283,9 @@ TEST(Trimming, TriangleFieldIsZeroExactlyOnTheTriangleAndDistanceLikeNearIt) {
   for (int i = 0; i < 500; ++i) {
     const V p{test::uniform(rng, -1, 3), test::uniform(rng, -1.5, 2.5), test::uniform(rng, -1.5, 2)};
     const double plane = (p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1] + (p[2] - a[2]) * n[2];
-    if (std::abs(plane) > 1e-3) EXPECT_GT(w.at(p), 0.0);
+    if (std::abs(plane) > 1e-3) {
+      EXPECT_GT(w.at(p), 0.0);
+    }
   }
 }
 
