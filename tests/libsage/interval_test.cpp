@@ -4,7 +4,8 @@
 // R-functions of every system (exact end-point rule for the monotone
 // ones, general arithmetic otherwise), and for composite formulas, at
 // 10^4 random points per case plus the box corners; also with all
-// coordinates scaled by 1e-8 and 1e8.
+// coordinates scaled by 1e-8 and 1e8. And that it is not much wider: on
+// small boxes every op's enclosure is about its range's width.
 
 #include "test_support.hpp"
 
