@@ -53,7 +53,7 @@ TEST(SolidConvergence, SquareByNitscheAtOptimalRates) {
   }
 }
 
-TEST(SolidConvergence, SquareByTheStructureLosesAnOrder) {
+TEST(SolidConvergence, SquareByTheStructureConvergesAtRatesTwoAndOne) {
   // What Nitsche's route is for: omega_D is an R-conjunction with corners,
   // where Phi = (u - g~) / omega_D behaves like r f(theta) about each
   // corner: D^2 Phi ~ 1 / r, so Phi is in H^(2 - eps) only, and the best
