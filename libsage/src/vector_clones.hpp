@@ -4,9 +4,10 @@
 // target_clones): two, four or eight doubles per vector instruction. The
 // build never contracts a * b + c into a fused multiply-add
 // (-ffp-contract=off in CMakeLists.txt), so all three give the same bits.
-// Elsewhere: the one default build.
+// Elsewhere, and with clang (the fuzz build), whose target_clones takes no
+// function templates: the one default build.
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define SAGE_VECTOR_CLONES [[gnu::target_clones("avx512f", "avx2", "default")]]
 #else
 #define SAGE_VECTOR_CLONES
