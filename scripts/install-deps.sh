@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sage needs to build, test and benchmark,
-# skipping those already present. Run as root (or with sudo available).
+# and any named as arguments (scripts/fuzz.sh adds clang's), skipping those
+# already present. Run as root (or with sudo available).
 set -euo pipefail
 
 packages=(
@@ -14,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev           # bench/
   clang-format               # format check in CI
+  "$@"
 )
 
 missing=()
