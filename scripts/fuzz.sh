@@ -77,8 +77,8 @@ failed=0
 for t in "${targets[@]}"; do
   log="$run/$t.log"
   rc=$(cat "$run/$t/rc" 2>/dev/null || echo 1)
-  last=$(grep -E '^#[0-9]+' "$log" | tail -1 || true)
-  speed=$(grep -oE 'stat::average_exec_per_sec: *[0-9]+' "$log" | tail -1 | grep -oE '[0-9]+$' || true)
+  last=$(grep -a -E '^#[0-9]+' "$log" | tail -1 || true)
+  speed=$(grep -a -oE 'stat::average_exec_per_sec: *[0-9]+' "$log" | tail -1 | grep -oE '[0-9]+$' || true)
   echo "fuzz: $t: exit $rc, ${speed:-?} exec/s, last: ${last:-none}"
   if [ "$rc" -ne 0 ]; then
     failed=1
