@@ -84,7 +84,11 @@ for t in "${targets[@]}"; do
     failed=1
     echo "---- $t: the end of $log"
     tail -n 60 "$log"
-    for f in "$run/$t"/findings/{crash,leak,timeout,oom}-*; do
+    # libFuzzer saves what it found; a saved input that fails on replay is
+    # the last one it was running.
+    findings=("$run/$t"/findings/{crash,leak,timeout,oom}-*)
+    [ -e "${findings[0]}" ] || findings=("$(grep -a -oE '^Running: .*' "$log" | tail -1 | cut -c10-)")
+    for f in "${findings[@]}"; do
       [ -e "$f" ] || continue
       echo "FINDING ($t): $f"
       echo "  reproduce: $build/fuzz/sage_fuzz_$t $f"
