@@ -10,16 +10,14 @@
 #
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
 #
-# TARGET: model problem formula mesh geojson solve. By default every target
-# but solve: the solver crashes on known bugs (zero or sign-changing
-# conductivity, NaN data) being fixed now; name it to run it.
+# TARGET: model problem formula mesh geojson solve (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 seconds="${1:-60}"
 [ $# -gt 0 ] && shift
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(model problem formula mesh geojson)
+[ ${#targets[@]} -gt 0 ] || targets=(model problem formula mesh geojson solve)
 
 bash scripts/install-deps.sh clang libclang-rt-14-dev libomp-dev
 
