@@ -1,5 +1,7 @@
+#include "cell_loop.hpp"
 #include "data_check.hpp"
 #include "discretization.hpp"
+#include "elasticity_assembly.hpp"
 #include "linear_solve.hpp"
 #include "stage_timer.hpp"
 
@@ -95,34 +97,6 @@ double energy_density(const ElasticMaterial& material, const double* g) {
   return e;
 }
 
-/// The cell's strain-displacement matrix in Voigt order (elastic_material.hpp)
-/// from the gradients of the local trial functions of each component:
-/// gradient[c][a] holds d(w_c B_j)/dx_a for the local splines j; local
-/// unknown (c, j) is column c * local + j.
-template <int D>
-void strain_matrix(const std::array<std::array<const double*, D>, D>& gradient, int local, Eigen::MatrixXd& strain) {
-  strain.setZero();
-  for (int v = 0; v < voigt_size(D); ++v) {
-    const auto [a, b] = voigt_axes(D, v);
-    for (int j = 0; j < local; ++j) {
-      strain(v, a * local + j) += gradient[a][b][j];
-      if (a != b) strain(v, b * local + j) += gradient[b][a][j];
-    }
-  }
-}
-
-/// The traction sigma n in terms of Voigt stresses: t = N sigma_v.
-template <int D>
-Eigen::MatrixXd traction_map(const std::array<double, D>& n) {
-  Eigen::MatrixXd map = Eigen::MatrixXd::Zero(D, voigt_size(D));
-  for (int v = 0; v < voigt_size(D); ++v) {
-    const auto [a, b] = voigt_axes(D, v);
-    map(a, v) += n[b];
-    if (a != b) map(b, v) += n[a];
-  }
-  return map;
-}
-
 }  // namespace
 
 template <int D>
@@ -202,7 +176,6 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   CellRules<D> rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
   report_fallbacks(rules.counts, report);
   const auto& volume = rules.volume;
-  const auto& surface = rules.surface;
   timer.lap(&StageSeconds::quadrature);
 
   solution.basis = basis_on_cells(cells, classified, rules, options.basis, report);
@@ -238,184 +211,13 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   solution.mesh = cells.mesh();
   if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 
-  // Surface data: the selectors, then per part (named, then the rest) the
-  // traction (D), the pressure, and the displacement data (D, 0 where free).
-  std::vector<Expr> surface_roots;
-  for (const ElasticPart& part : problem.parts) surface_roots.push_back(part.selector);
-  const std::size_t part_count = problem.parts.size();
-  for (std::size_t k = 0; k <= part_count; ++k) {
-    const ElasticPart& part = k < part_count ? problem.parts[k] : problem.rest;
-    for (int c = 0; c < D; ++c) surface_roots.push_back(part.traction[static_cast<std::size_t>(c)]);
-    surface_roots.push_back(part.pressure);
-    for (int c = 0; c < D; ++c)
-      surface_roots.push_back(part.fixes(c) ? *part.displacement[static_cast<std::size_t>(c)] : Expr(0.0));
-  }
-  const Tape surface_tape(surface_roots, D);
-  const std::size_t part_stride = 2 * D + 1;
-  std::vector<Expr> force_roots(problem.body_force.begin(), problem.body_force.begin() + D);
-  const Tape force_tape(force_roots, D);
-
-  // Assembly: per cell, the local stiffness of D (n + 1)^D unknowns
-  // (component-major), scattered into one band per pair of components.
-  const StencilLayout<D> layout(n);
+  // Assembly by the shared cell loop, one band per pair of components.
   const std::size_t relevant = basis.relevant.size();
-  const std::size_t band_size = relevant * static_cast<std::size_t>(layout.size);
-  std::vector<std::vector<double>> bands(D * D, std::vector<double>(band_size, 0.0));
-  std::vector<std::vector<double>> loads(D, std::vector<double>(relevant, 0.0));
-  const int local = grid.local_count(), dofs = D * local, voigt = voigt_size(D);
-  const Eigen::MatrixXd elastic = material.voigt(D);
-  const Eigen::MatrixXd elastic_root = Eigen::LLT<Eigen::MatrixXd>(elastic).matrixL();  // C = R R^T
-  const double selector_tolerance = kSelectorTolerance * grid.h;
-  const double penalty = weak ? *report.nitsche_penalty * material.stiffness_scale(D) / grid.h : 0.0;
-  const InsideSplineTable inside_table = inside_spline_table<D>(grid, inside_points);
-
-#pragma omp parallel
-  {
-    std::optional<Evaluator<Tuple<D, 1>>> structure_eval;
-    if (structured) structure_eval.emplace(*solution.structure);
-    Evaluator<double> force_eval(force_tape), surface_eval(surface_tape);
-    LocalSplines<D> splines;
-    Eigen::MatrixXd columns(dofs, 0), stiffness(dofs, dofs), inside_stiffness, strain(voigt, dofs);
-    Eigen::VectorXd rhs(dofs), trial(dofs), traction_row(dofs);
-    std::vector<double> trial_gradient(static_cast<std::size_t>(D * D * local));
-    std::vector<long long> rows(static_cast<std::size_t>(local));
-    // Each thread adds into its own bands, summed in thread order below;
-    // the first thread adds into `bands` itself (one thread: no copy).
-#ifdef _OPENMP
-    const bool first_thread = omp_get_thread_num() == 0;
-#else
-    const bool first_thread = true;
-#endif
-    std::vector<std::vector<double>> own_bands_storage(first_thread ? 0 : D * D, std::vector<double>(band_size, 0.0));
-    std::vector<std::vector<double>>& own_bands = first_thread ? bands : own_bands_storage;
-    std::vector<std::vector<double>> own_loads(D, std::vector<double>(relevant, 0.0));
-#pragma omp for schedule(static, 8) nowait
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      const auto& points = volume[k];
-      if (points.empty()) continue;
-      const auto cell = grid.cell_index(candidates[k]);
-      const bool tabulated = kinds[candidates[k]] == CellKind::Inside && points.size() == inside_table.points;
-      // Without the structure every inside cell has the same stiffness (constant material).
-      const bool reused = !structured && tabulated && inside_stiffness.size() > 0;
-      const auto needed = static_cast<Eigen::Index>(points.size()) * voigt;
-      if (!reused && columns.cols() < needed) columns.resize(dofs, needed);
-      rhs.setZero();
-      for (std::size_t p = 0; p < points.size(); ++p) {
-        const auto& q = points[p];
-        const double* value = nullptr;
-        std::array<const double*, D> slope{};
-        if (tabulated) {
-          value = inside_table.value.data() + p * static_cast<std::size_t>(local);
-          for (int a = 0; a < D; ++a) slope[a] = inside_table.gradient[a].data() + p * static_cast<std::size_t>(local);
-        } else {
-          splines.evaluate(grid, cell, q.x.data());
-          value = splines.value.data();
-          for (int a = 0; a < D; ++a) slope[a] = splines.gradient[a].data();
-        }
-        force_eval.evaluate(q.x.data());
-        const Eigen::Map<const Eigen::VectorXd> values(value, local);
-        // Trial gradients d(w_c B_j)/dx_a, and the load (f, v) - (sigma(g~), eps(v)).
-        std::array<std::array<const double*, D>, D> gradient{};
-        if (structured) {
-          structure_eval->evaluate(q.x.data());
-          Eigen::VectorXd offset_strain = Eigen::VectorXd::Zero(voigt);
-          for (int c = 0; c < D; ++c) {
-            const auto& w = structure_eval->result(2 * static_cast<std::size_t>(c));
-            const auto gw = w.gradient();
-            const auto go = structure_eval->result(2 * static_cast<std::size_t>(c) + 1).gradient();
-            for (int a = 0; a < D; ++a) {
-              double* out = trial_gradient.data() + static_cast<std::size_t>((c * D + a) * local);
-              for (int j = 0; j < local; ++j) out[j] = gw[a] * value[j] + w.value() * slope[a][j];
-              gradient[c][a] = out;
-            }
-            rhs.segment(c * local, local) += (q.weight * force_eval.result(c) * w.value()) * values;
-            for (int v = 0; v < voigt; ++v) {
-              const auto [a, b] = voigt_axes(D, v);
-              if (a == c) offset_strain[v] += go[b];
-              if (b == c && a != b) offset_strain[v] += go[a];
-            }
-          }
-          strain_matrix<D>(gradient, local, strain);
-          rhs -= q.weight * (strain.transpose() * (elastic * offset_strain));
-        } else {
-          for (int c = 0; c < D; ++c) {
-            for (int a = 0; a < D; ++a) gradient[c][a] = slope[a];
-            rhs.segment(c * local, local) += (q.weight * force_eval.result(c)) * values;
-          }
-          if (!reused) strain_matrix<D>(gradient, local, strain);
-        }
-        if (!reused)
-          columns.middleCols(static_cast<Eigen::Index>(p) * voigt, voigt) =
-              std::sqrt(q.weight) * (strain.transpose() * elastic_root);
-      }
-      if (reused) {
-        stiffness = inside_stiffness;
-      } else {
-        stiffness.setZero();
-        stiffness.template selfadjointView<Eigen::Lower>().rankUpdate(columns.leftCols(needed));
-        if (!structured && tabulated) inside_stiffness = stiffness;
-      }
-      for (const auto& s : surface[k]) {
-        surface_eval.evaluate(s.x.data());
-        const std::size_t part = nearest_part(surface_eval, part_count, selector_tolerance);
-        const ElasticPart& data = part < part_count ? problem.parts[part] : problem.rest;
-        const std::size_t at = part_count + part * part_stride;
-        const bool loaded = data.loaded;
-        const bool nitsche = weak && data.fixed();
-        if (!loaded && !nitsche) continue;
-        splines.evaluate(grid, cell, s.x.data());
-        const Eigen::Map<const Eigen::VectorXd> values(splines.value.data(), local);
-        if (loaded) {  // <t - p n, w_c B_j>
-          if (structured) structure_eval->evaluate(s.x.data());
-          const double pressure = surface_eval.result(at + D);
-          for (int c = 0; c < D; ++c) {
-            const double t = surface_eval.result(at + static_cast<std::size_t>(c)) - pressure * s.normal[c];
-            const double w = structured ? structure_eval->result(2 * static_cast<std::size_t>(c)).value() : 1.0;
-            rhs.segment(c * local, local) += (s.weight * t * w) * values;
-          }
-          continue;
-        }
-        // Nitsche's terms of the fixed components (w = 1: the B-splines themselves).
-        std::array<std::array<const double*, D>, D> gradient{};
-        for (int c = 0; c < D; ++c)
-          for (int a = 0; a < D; ++a) gradient[c][a] = splines.gradient[a].data();
-        strain_matrix<D>(gradient, local, strain);
-        const Eigen::MatrixXd traction = traction_map<D>(s.normal) * elastic * strain;  // D x dofs
-        auto lower = stiffness.template selfadjointView<Eigen::Lower>();
-        for (int c = 0; c < D; ++c) {
-          if (!data.fixes(c)) continue;
-          const double g = surface_eval.result(at + D + 1 + static_cast<std::size_t>(c));
-          trial.setZero();
-          trial.segment(c * local, local) = values;
-          traction_row = traction.row(c).transpose();
-          lower.rankUpdate(trial, s.weight * penalty);
-          lower.rankUpdate(trial, traction_row, -s.weight);
-          rhs += (s.weight * g) * (penalty * trial - traction_row);
-        }
-      }
-      for (int j = 0; j < local; ++j)
-        rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(cell, n, j))];
-      stiffness.template triangularView<Eigen::StrictlyUpper>() = stiffness.transpose();
-      for (int c = 0; c < D; ++c) {
-        for (int j = 0; j < local; ++j) {
-          const auto r = static_cast<std::size_t>(rows[j]);
-          own_loads[c][r] += rhs[c * local + j];
-          const std::size_t slot = r * static_cast<std::size_t>(layout.size) + layout.centre - layout.position[j];
-          for (int d = 0; d < D; ++d) {
-            double* row = own_bands[c * D + d].data() + slot;
-            const double* column = stiffness.col(c * local + j).data() + d * local;
-            for (int l = 0; l < local; ++l) row[layout.position[l]] += column[l];
-          }
-        }
-      }
-    }
-    in_thread_order([&] {
-      for (std::size_t b = 0; b < bands.size() && !first_thread; ++b)
-        for (std::size_t i = 0; i < band_size; ++i) bands[b][i] += own_bands[b][i];
-      for (int c = 0; c < D; ++c)
-        for (std::size_t i = 0; i < relevant; ++i) loads[c][i] += own_loads[c][i];
-    });
-  }
+  ElasticityAssembly assembled =
+      assemble_elasticity<D>({problem, basis, candidates, kinds, rules, solution.structure.get(), weak, inside_points,
+                              report.nitsche_penalty.value_or(0.0)});
+  std::vector<std::vector<double>>& bands = assembled.bands;
+  const std::vector<std::vector<double>>& loads = assembled.loads;
 
   // The system of the unknowns, component-major: the diagonal blocks by
   // extended_system, the blocks below them E^T A_cd E.
@@ -428,9 +230,9 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
         E.transpose() * Eigen::Map<const Eigen::VectorXd>(loads[c].data(), static_cast<Eigen::Index>(relevant));
     for (int d = 0; d <= c; ++d) {
       const Eigen::SparseMatrix<double> block =
-          c == d ? extended_system(basis, bands[c * D + d])
-                 : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, bands[c * D + d]) * E);
-      std::vector<double>().swap(bands[c * D + d]);
+          c == d ? extended_system(basis, bands[block_pair(c, d)])
+                 : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, bands[block_pair(c, d)]) * E);
+      std::vector<double>().swap(bands[block_pair(c, d)]);
       for (Eigen::Index col = 0; col < block.outerSize(); ++col)
         for (Eigen::SparseMatrix<double>::InnerIterator e(block, col); e; ++e)
           entries.emplace_back(c * N + e.row(), d * N + col, e.value());
