@@ -146,93 +146,46 @@ std::array<double, 6> ElasticitySolution<D>::Probe::stress(const double* x) {
   return solution_->material.template stress<D>(g);
 }
 
+namespace {
+
+/// The structure route's trial functions, per component c: the roots w_c,
+/// g~_c (boundary_structure.hpp) of the parts that fix c.
 template <int D>
-ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const SolverOptions& options) {
-  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
-  check_solver_options(options, problem.min, problem.max, D);
-  check_problem(problem);
-  ElasticitySolution<D> solution;
-  solution.material = problem.material;
-  SolveReport& report = solution.report;
-  ElasticityResults& results = solution.results;
-  StageTimer timer(report);
-  const int n = options.degree;
-  const ElasticMaterial& material = problem.material;
-
-  DomainCells<D> cells(problem.domain, problem.boundary_mesh);
-  timer.lap(&StageSeconds::field);
-
-  const ClassifiedGrid<D> classified =
-      classify_grid<D>(cells, problem.min, problem.max, options.cell_width, n,
-                       {options.linear_solver == LinearSolverKind::Direct, D, options.memory_limit_mb}, report);
-  const BackgroundGrid<D>& grid = classified.grid;
-  const std::vector<std::size_t>& candidates = classified.candidates;
-  const std::vector<CellKind>& kinds = cells.kinds();
-  // Gauss with n + 1 nodes per direction (poisson.cpp says why one more where a curved piece is active).
-  const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
-  const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
-  timer.lap(&StageSeconds::classification);
-
-  CellRules<D> rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
-  report_fallbacks(rules.counts, report);
-  const auto& volume = rules.volume;
-  timer.lap(&StageSeconds::quadrature);
-
-  solution.basis = basis_on_cells(cells, classified, rules, options.basis, report);
-  if (options.keep_quadrature) solution.quadrature = quadrature_dump(rules);
-  const SplineBasis<D>& basis = solution.basis;
-  report.unknowns = D * basis.unknowns();
-
-  // Displacement conditions: weak (Nitsche) or by the structure per component.
-  bool has_fixed = problem.rest.fixed();
-  for (const ElasticPart& part : problem.parts) has_fixed = has_fixed || part.fixed();
-  DirichletRoute route = options.dirichlet;
-  if (route == DirichletRoute::Automatic)
-    route = options.basis == BasisKind::Weighted ? DirichletRoute::Structure : DirichletRoute::Weak;
-  const bool structured = route == DirichletRoute::Structure && has_fixed;
-  const bool weak = route == DirichletRoute::Weak && has_fixed;
-  report.dirichlet_route = route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
-  if (weak) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
-  if (structured) {
-    std::vector<Expr> roots;
-    for (int c = 0; c < D; ++c) {
-      try {
-        const BoundaryStructure s = boundary_structure(component_problem(problem, c), classified.interior, true);
-        roots.push_back(s.dirichlet_weight);
-        roots.push_back(s.dirichlet_extension);
-      } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string("the structure of displacement component ") + kAxisName[c] + ": " +
-                                    e.what());
-      }
+std::shared_ptr<const Tape> displacement_structure(const ElasticityProblem& problem,
+                                                   const std::array<double, 3>& interior) {
+  std::vector<Expr> roots;
+  for (int c = 0; c < D; ++c) {
+    try {
+      const BoundaryStructure s = boundary_structure(component_problem(problem, c), interior, true);
+      roots.push_back(s.dirichlet_weight);
+      roots.push_back(s.dirichlet_extension);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("the structure of displacement component ") + kAxisName[c] + ": " +
+                                  e.what());
     }
-    solution.structure = std::make_shared<Tape>(roots, D);
   }
-  check_data(elasticity_data_rules(problem, structured), rules, grid.h);
-  solution.mesh = cells.mesh();
-  if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
+  return std::make_shared<Tape>(roots, D);
+}
 
-  // Assembly by the shared cell loop, one band per pair of components.
-  const std::size_t relevant = basis.relevant.size();
-  ElasticityAssembly assembled =
-      assemble_elasticity<D>({problem, basis, candidates, kinds, rules, solution.structure.get(), weak, inside_points,
-                              report.nitsche_penalty.value_or(0.0)});
-  std::vector<std::vector<double>>& bands = assembled.bands;
-  const std::vector<std::vector<double>>& loads = assembled.loads;
-
-  // The system of the unknowns, component-major: the diagonal blocks by
-  // extended_system, the blocks below them E^T A_cd E.
+/// The system of the unknowns (lower triangle), component-major: the
+/// diagonal blocks by extended_system, the blocks below them E^T A_cd E;
+/// the bands are released as they are used. Its right side into `right`.
+template <int D>
+Eigen::SparseMatrix<double> elastic_system(const SplineBasis<D>& basis, ElasticityAssembly& assembled,
+                                           Eigen::VectorXd& right) {
   const Eigen::SparseMatrix<double>& E = basis.extension;
   const Eigen::Index N = E.cols();
+  const auto relevant = static_cast<Eigen::Index>(basis.relevant.size());
   std::vector<Eigen::Triplet<double>> entries;
-  Eigen::VectorXd right(D * N);
+  right.resize(D * N);
   for (int c = 0; c < D; ++c) {
-    right.segment(c * N, N) =
-        E.transpose() * Eigen::Map<const Eigen::VectorXd>(loads[c].data(), static_cast<Eigen::Index>(relevant));
+    right.segment(c * N, N) = E.transpose() * Eigen::Map<const Eigen::VectorXd>(assembled.loads[c].data(), relevant);
     for (int d = 0; d <= c; ++d) {
+      std::vector<double>& band = assembled.bands[block_pair(c, d)];
       const Eigen::SparseMatrix<double> block =
-          c == d ? extended_system(basis, bands[block_pair(c, d)])
-                 : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, bands[block_pair(c, d)]) * E);
-      std::vector<double>().swap(bands[block_pair(c, d)]);
+          c == d ? extended_system(basis, band)
+                 : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, band) * E);
+      std::vector<double>().swap(band);
       for (Eigen::Index col = 0; col < block.outerSize(); ++col)
         for (Eigen::SparseMatrix<double>::InnerIterator e(block, col); e; ++e)
           entries.emplace_back(c * N + e.row(), d * N + col, e.value());
@@ -240,104 +193,120 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   }
   Eigen::SparseMatrix<double> system(D * N, D * N);
   system.setFromTriplets(entries.begin(), entries.end());
-  entries = {};
-  report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - static_cast<std::size_t>(D * N);
+  return system;
+}
 
-  // Free rigid motions: those of energy 0 (the rest is held by the
-  // displacement conditions), from the generalized eigenproblem of the
-  // motions' energies against their diagonal scale.
-  double longest = 0.0;
+/// The rigid motions no displacement condition holds, about `centre`.
+struct FreeMotions {
+  int count = 0;
+  Eigen::MatrixXd combination;  // motions x count: the free ones among the rigid motions
+  Eigen::MatrixXd unknowns;     // unknowns x count: their coefficients
   std::array<double, 3> centre{};
-  for (int a = 0; a < D; ++a) {
-    longest = std::max(longest, problem.max[a] - problem.min[a]);
-    centre[a] = 0.5 * (problem.min[a] + problem.max[a]);
-  }
+};
+
+/// Free rigid motions: those of energy 0 (the rest is held by the
+/// displacement conditions), from the generalized eigenproblem of the
+/// motions' energies against their diagonal scale. Throws when the loads
+/// do work on them; else removes the quadrature-level remainder from
+/// `right` and pins one unknown per free motion.
+template <int D>
+FreeMotions hold_free_motions(const ElasticityProblem& problem, const SplineBasis<D>& basis,
+                              Eigen::SparseMatrix<double>& system, Eigen::VectorXd& right, ElasticityResults& results) {
+  const BackgroundGrid<D>& grid = basis.grid;
+  const Eigen::Index N = basis.extension.cols();
+  FreeMotions free;
+  for (int a = 0; a < D; ++a) free.centre[a] = 0.5 * (problem.min[a] + problem.max[a]);
   const int motions = kRigidMotions<D>;
+  // Rigid motions are linear: their coefficients are their values at the B-splines' Greville points.
   Eigen::MatrixXd rigid(D * N, motions);
   for (Eigen::Index p = 0; p < N; ++p) {
     const auto x = grid.greville(grid.spline_index(basis.relevant[basis.unknown_spline[static_cast<std::size_t>(p)]]));
     for (int m = 0; m < motions; ++m) {
-      const auto u = rigid_motion<D>(m, x.data(), centre);
+      const auto u = rigid_motion<D>(m, x.data(), free.centre);
       for (int c = 0; c < D; ++c) rigid(c * N + p, m) = u[c];
     }
   }
-  std::array<double, D> box_centre{};
-  for (int a = 0; a < D; ++a) box_centre[a] = centre[a];
   const Eigen::MatrixXd energy = rigid.transpose() * (system.template selfadjointView<Eigen::Lower>() * rigid);
   const Eigen::MatrixXd scale = rigid.transpose() * system.diagonal().asDiagonal() * rigid;
   const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(energy, scale);
-  int free = 0;
-  while (free < motions && modes.eigenvalues()[free] < 1e-8) ++free;
-  results.free_rigid_motions = free;
-  Eigen::MatrixXd free_motions;  // unknowns x free
-  if (free > 0) {
-    const Eigen::MatrixXd combination = modes.eigenvectors().leftCols(free);
-    free_motions = rigid * combination;
-    const Eigen::VectorXd net = free_motions.transpose() * right;
-    const Eigen::VectorXd size = free_motions.cwiseAbs().transpose() * right.cwiseAbs();
-    double defect = 0.0;
-    for (int m = 0; m < free; ++m) defect = std::max(defect, std::abs(net[m]) / std::max(size[m], 1e-300));
-    results.load_balance = defect;
-    if (size.maxCoeff() > 0.0 && defect > kLoadBalanceTolerance) {
-      const Eigen::VectorXd resultant = rigid.transpose() * right;  // net force, then moment(s)
-      std::string force = "(", moment = D == 2 ? "" : "(";
-      for (int a = 0; a < D; ++a) force += (a ? ", " : "") + scientific(resultant[a]);
-      for (int m = D; m < motions; ++m) moment += (m > D ? ", " : "") + scientific(resultant[m]);
-      throw std::invalid_argument("unbalanced loads on a free body: the displacement conditions leave " +
-                                  std::to_string(free) + " rigid motion" + (free == 1 ? "" : "s") +
-                                  " free, and the loads do work on them (net force " + force + "), moment " + moment +
-                                  (D == 2 ? "" : ")") + " about " + point_text<D>(box_centre) + "; relative defect " +
-                                  scientific(defect) + "): balance the loads or fix the body somewhere");
-    }
-    // Remove the quadrature-level remainder, then pin one unknown per
-    // free motion (column-pivoted QR picks unknowns that determine them).
-    right -= free_motions * (free_motions.transpose() * free_motions).ldlt().solve(free_motions.transpose() * right);
-    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> pivots(free_motions.transpose());
-    for (int m = 0; m < free; ++m) {
-      const Eigen::Index pinned = pivots.colsPermutation().indices()[m];
-      system.coeffRef(pinned, pinned) *= 2.0;
-    }
+  while (free.count < motions && modes.eigenvalues()[free.count] < 1e-8) ++free.count;
+  results.free_rigid_motions = free.count;
+  if (free.count == 0) return free;
+  free.combination = modes.eigenvectors().leftCols(free.count);
+  free.unknowns = rigid * free.combination;
+  const Eigen::VectorXd net = free.unknowns.transpose() * right;
+  const Eigen::VectorXd size = free.unknowns.cwiseAbs().transpose() * right.cwiseAbs();
+  double defect = 0.0;
+  for (int m = 0; m < free.count; ++m) defect = std::max(defect, std::abs(net[m]) / std::max(size[m], 1e-300));
+  results.load_balance = defect;
+  if (size.maxCoeff() > 0.0 && defect > kLoadBalanceTolerance) {
+    const Eigen::VectorXd resultant = rigid.transpose() * right;  // net force, then moment(s)
+    std::string force = "(", moment = D == 2 ? "" : "(";
+    for (int a = 0; a < D; ++a) force += (a ? ", " : "") + scientific(resultant[a]);
+    for (int m = D; m < motions; ++m) moment += (m > D ? ", " : "") + scientific(resultant[m]);
+    std::array<double, D> box_centre{};
+    for (int a = 0; a < D; ++a) box_centre[a] = free.centre[a];
+    throw std::invalid_argument("unbalanced loads on a free body: the displacement conditions leave " +
+                                std::to_string(free.count) + " rigid motion" + (free.count == 1 ? "" : "s") +
+                                " free, and the loads do work on them (net force " + force + "), moment " + moment +
+                                (D == 2 ? "" : ")") + " about " + point_text<D>(box_centre) + "; relative defect " +
+                                scientific(defect) + "): balance the loads or fix the body somewhere");
   }
-  timer.lap(&StageSeconds::assembly);
-
-  LinearSolverKind kind = options.linear_solver;
-  if (kind == LinearSolverKind::Automatic && D == 2) kind = LinearSolverKind::ConjugateGradient;
-  const double tolerance =
-      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
-  Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report);
-  auto spline_coefficients = [&] {
-    solution.spline_coefficients.resize(static_cast<Eigen::Index>(relevant), D);
-    for (int c = 0; c < D; ++c) solution.spline_coefficients.col(c) = E * coefficients.segment(c * N, N);
-  };
-  spline_coefficients();
-  timer.lap(&StageSeconds::solve);
-
-  // Free motions: make u_h L2-orthogonal to them. Their functions are the
-  // rigid motions combined, exactly (linear functions are in the basis).
-  if (free > 0) {
-    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(motions, motions);
-    Eigen::VectorXd moments = Eigen::VectorXd::Zero(motions);
-    typename ElasticitySolution<D>::Probe probe(solution);
-    for (const auto& points : volume)
-      for (const auto& q : points) {
-        double u[D];
-        probe.at(q.x.data(), u);
-        std::array<std::array<double, D>, kRigidMotions<D>> r{};
-        for (int m = 0; m < motions; ++m) r[m] = rigid_motion<D>(m, q.x.data(), centre);
-        for (int m = 0; m < motions; ++m)
-          for (int c = 0; c < D; ++c) {
-            moments[m] += q.weight * r[m][c] * u[c];
-            for (int l = 0; l < motions; ++l) gram(m, l) += q.weight * r[m][c] * r[l][c];
-          }
-      }
-    const Eigen::MatrixXd combination = modes.eigenvectors().leftCols(free);
-    const Eigen::VectorXd amount =
-        (combination.transpose() * gram * combination).ldlt().solve(combination.transpose() * moments);
-    coefficients -= free_motions * amount;
-    spline_coefficients();
+  // Remove the quadrature-level remainder, then pin one unknown per
+  // free motion (column-pivoted QR picks unknowns that determine them).
+  right -= free.unknowns * (free.unknowns.transpose() * free.unknowns).ldlt().solve(free.unknowns.transpose() * right);
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> pivots(free.unknowns.transpose());
+  for (int m = 0; m < free.count; ++m) {
+    const Eigen::Index pinned = pivots.colsPermutation().indices()[m];
+    system.coeffRef(pinned, pinned) *= 2.0;
   }
+  return free;
+}
 
-  // Energies, the largest von Mises stress, and errors against the exact solution.
+/// The relevant B-splines' coefficients, per component, from the unknowns'.
+template <int D>
+void spread_coefficients(ElasticitySolution<D>& solution, const Eigen::VectorXd& coefficients) {
+  const Eigen::SparseMatrix<double>& E = solution.basis.extension;
+  const Eigen::Index N = E.cols();
+  solution.spline_coefficients.resize(static_cast<Eigen::Index>(solution.basis.relevant.size()), D);
+  for (int c = 0; c < D; ++c) solution.spline_coefficients.col(c) = E * coefficients.segment(c * N, N);
+}
+
+/// Makes u_h L2-orthogonal to the free motions. Their functions are the
+/// rigid motions combined, exactly (linear functions are in the basis).
+template <int D>
+void orthogonalize(ElasticitySolution<D>& solution, const FreeMotions& free,
+                   const std::vector<std::vector<VolumePoint<D>>>& volume, Eigen::VectorXd& coefficients) {
+  const int motions = kRigidMotions<D>;
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(motions, motions);
+  Eigen::VectorXd moments = Eigen::VectorXd::Zero(motions);
+  typename ElasticitySolution<D>::Probe probe(solution);
+  for (const auto& points : volume)
+    for (const auto& q : points) {
+      double u[D];
+      probe.at(q.x.data(), u);
+      std::array<std::array<double, D>, kRigidMotions<D>> r{};
+      for (int m = 0; m < motions; ++m) r[m] = rigid_motion<D>(m, q.x.data(), free.centre);
+      for (int m = 0; m < motions; ++m)
+        for (int c = 0; c < D; ++c) {
+          moments[m] += q.weight * r[m][c] * u[c];
+          for (int l = 0; l < motions; ++l) gram(m, l) += q.weight * r[m][c] * r[l][c];
+        }
+    }
+  const Eigen::MatrixXd& combination = free.combination;
+  const Eigen::VectorXd amount =
+      (combination.transpose() * gram * combination).ldlt().solve(combination.transpose() * moments);
+  coefficients -= free.unknowns * amount;
+  spread_coefficients(solution, coefficients);
+}
+
+/// The strain energy, the largest von Mises stress, and the errors against
+/// the exact solution, at the volume points.
+template <int D>
+void elastic_results(ElasticitySolution<D>& solution, const ElasticityProblem& problem,
+                     const std::vector<std::vector<VolumePoint<D>>>& volume) {
+  const ElasticMaterial& material = problem.material;
+  ElasticityResults& results = solution.results;
   std::optional<Tape> exact_tape;
   if (problem.exact) exact_tape.emplace(std::vector<Expr>(problem.exact->begin(), problem.exact->begin() + D), D);
   double energy_sum = 0.0, error2 = 0.0, norm2 = 0.0, energy_error2 = 0.0, energy_norm2 = 0.0;
@@ -351,7 +320,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
     double own_peak = -1.0;
     std::array<double, 3> own_at{};
 #pragma omp for schedule(dynamic, 16)
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
+    for (std::size_t k = 0; k < volume.size(); ++k) {
       for (const auto& q : volume[k]) {
         double u[D], g[D * D];
         probe.at(q.x.data(), u, g);
@@ -391,6 +360,75 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
     results.l2_error = std::sqrt(error2 / norm2);
     results.energy_error = std::sqrt(energy_error2 / energy_norm2);
   }
+}
+
+}  // namespace
+
+template <int D>
+ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const SolverOptions& options) {
+  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  check_solver_options(options, problem.min, problem.max, D);
+  check_problem(problem);
+  ElasticitySolution<D> solution;
+  solution.material = problem.material;
+  SolveReport& report = solution.report;
+  StageTimer timer(report);
+  const int n = options.degree;
+
+  // Setup: cells, their rules, the basis, the displacement route, the data checked.
+  DomainCells<D> cells(problem.domain, problem.boundary_mesh);
+  timer.lap(&StageSeconds::field);
+  const ClassifiedGrid<D> classified =
+      classify_grid<D>(cells, problem.min, problem.max, options.cell_width, n,
+                       {options.linear_solver == LinearSolverKind::Direct, D, options.memory_limit_mb}, report);
+  // Gauss with n + 1 nodes per direction (poisson.cpp says why one more where a curved piece is active).
+  const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
+  const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
+  timer.lap(&StageSeconds::classification);
+  CellRules<D> rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
+  report_fallbacks(rules.counts, report);
+  timer.lap(&StageSeconds::quadrature);
+  solution.basis = basis_on_cells(cells, classified, rules, options.basis, report);
+  if (options.keep_quadrature) solution.quadrature = quadrature_dump(rules);
+  report.unknowns = D * solution.basis.unknowns();
+  bool has_fixed = problem.rest.fixed();
+  for (const ElasticPart& part : problem.parts) has_fixed = has_fixed || part.fixed();
+  DirichletRoute route = options.dirichlet;
+  if (route == DirichletRoute::Automatic)
+    route = options.basis == BasisKind::Weighted ? DirichletRoute::Structure : DirichletRoute::Weak;
+  const bool structured = route == DirichletRoute::Structure && has_fixed;
+  const bool weak = route == DirichletRoute::Weak && has_fixed;
+  report.dirichlet_route = route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
+  if (weak) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
+  if (structured) solution.structure = displacement_structure<D>(problem, classified.interior);
+  check_data(elasticity_data_rules(problem, structured), rules, classified.grid.h);
+  solution.mesh = cells.mesh();
+  if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
+
+  // Assembly by the shared cell loop, one band per pair of components, then the system.
+  ElasticityAssembly assembled =
+      assemble_elasticity<D>({problem, solution.basis, classified.candidates, cells.kinds(), rules,
+                              solution.structure.get(), weak, inside_points, report.nitsche_penalty.value_or(0.0)});
+  Eigen::VectorXd right;
+  Eigen::SparseMatrix<double> system = elastic_system(solution.basis, assembled, right);
+  report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - static_cast<std::size_t>(system.rows());
+  const FreeMotions free = hold_free_motions(problem, solution.basis, system, right, solution.results);
+  timer.lap(&StageSeconds::assembly);
+
+  // Solve.
+  double longest = 0.0;
+  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  LinearSolverKind kind = options.linear_solver;
+  if (kind == LinearSolverKind::Automatic && D == 2) kind = LinearSolverKind::ConjugateGradient;
+  const double tolerance =
+      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(classified.grid.h, longest, n);
+  Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report);
+  spread_coefficients(solution, coefficients);
+  timer.lap(&StageSeconds::solve);
+
+  // Post-processing.
+  if (free.count > 0) orthogonalize(solution, free, rules.volume, coefficients);
+  elastic_results(solution, problem, rules.volume);
   timer.lap(&StageSeconds::errors);
   return solution;
 }
