@@ -312,6 +312,124 @@ double PoissonSolution<D>::Probe::at(const double* x, double* gradient) {
   return u;
 }
 
+namespace {
+
+/// Named Neumann and Robin parts and no default: the rest is Dirichlet
+/// u = 0 where it exists, but the named parts may claim the whole boundary,
+/// and then the problem is a Neumann or Robin problem (pure Neumann
+/// without Robin parts). The surface points tell: the problem as posed,
+/// and (when they were needed) the rules that told, into `early_rules`.
+template <int D>
+PoissonProblem posed_problem(const PoissonProblem& given, const DomainCells<D>& cells,
+                             const ClassifiedGrid<D>& classified, const QuadratureOptions& quadrature,
+                             std::optional<CellRules<D>>& early_rules) {
+  PoissonProblem problem = given;
+  bool named_dirichlet = false, named_weak = false;
+  for (const BoundaryPart& part : given.parts) {
+    named_dirichlet = named_dirichlet || part.kind == BoundaryKind::Dirichlet;
+    named_weak = named_weak || part.kind != BoundaryKind::Dirichlet;
+  }
+  if (given.rest_given || !named_weak || named_dirichlet) return problem;
+  early_rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
+  if (rest_points(given, *early_rules, classified.grid.h) == 0) {
+    problem.rest.kind = BoundaryKind::Neumann;
+    problem.rest.flux = 0.0;
+    problem.rest_given = true;
+  }
+  return problem;
+}
+
+/// How the conditions enter: the Robin structure or not, the Dirichlet route.
+struct PoissonRoutes {
+  bool structured = false;  // the Robin structure
+  DirichletRoute dirichlet = DirichletRoute::Weak;
+  bool weak_dirichlet = false;  // Nitsche's terms on Dirichlet parts
+};
+
+PoissonRoutes poisson_routes(const PoissonProblem& problem, const SolverOptions& options) {
+  bool has_dirichlet = problem.rest.kind == BoundaryKind::Dirichlet, has_weak = !has_dirichlet;
+  for (const BoundaryPart& part : problem.parts) {
+    has_dirichlet = has_dirichlet || part.kind == BoundaryKind::Dirichlet;
+    has_weak = has_weak || part.kind != BoundaryKind::Dirichlet;
+  }
+  PoissonRoutes routes;
+  routes.structured = options.robin == RobinRoute::Structure && has_weak;
+  if (routes.structured && options.degree < 2)
+    throw std::invalid_argument(
+        "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
+  routes.dirichlet = options.dirichlet;
+  // Nitsche's method leans on the WEB extension for its stability (plain
+  // B-splines with slivers of support need no penalty bound); the Robin
+  // structure is built on the Dirichlet structure.
+  if (routes.dirichlet == DirichletRoute::Automatic)
+    routes.dirichlet =
+        routes.structured || options.basis == BasisKind::Weighted ? DirichletRoute::Structure : DirichletRoute::Weak;
+  if (routes.dirichlet == DirichletRoute::Weak && routes.structured)
+    throw std::invalid_argument(
+        "the Robin structure is built on the Dirichlet structure: impose Dirichlet conditions by the structure too "
+        "(--dirichlet structure), or Neumann and Robin conditions weakly");
+  routes.weak_dirichlet = routes.dirichlet == DirichletRoute::Weak && has_dirichlet;
+  return routes;
+}
+
+/// Cells that may meet the structure's band (omega_R < band over the cell,
+/// by intervals) hold its cut-offs, polynomials of degree power + 2 or so in
+/// omega_R times the splines, and their C^(power - 1) edge: a finer rule
+/// there (with n + 1 points, degree 3, h = 0.0125: H1 error 7.8e-4 against 3.6e-9).
+template <int D>
+std::vector<char> band_cells(const TrialStructure& trial, const ClassifiedGrid<D>& classified, double band) {
+  const std::vector<std::size_t>& candidates = classified.candidates;
+  std::vector<char> in_band(candidates.size(), 0);
+  if (!trial.second_function()) return in_band;
+  const Tape field(trial.robin_field, D);
+  Evaluator<Interval> eval(field);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const Box<D> box = cell_box(classified.grid, candidates[k]);
+    std::array<Interval, 3> x{Interval(0.0), Interval(0.0), Interval(0.0)};
+    for (int a = 0; a < D; ++a) x[static_cast<std::size_t>(a)] = Interval(box.lo[a], box.hi[a]);
+    eval.evaluate_with(x.data());
+    in_band[k] = !(eval.result().lo >= band) ? 1 : 0;  // NaN: may meet it
+  }
+  return in_band;
+}
+
+/// The trial structure's roots, compiled: scale, offset, transport per axis, second weight.
+template <int D>
+std::shared_ptr<const Tape> trial_tape(const TrialStructure& trial) {
+  std::vector<Expr> roots{trial.scale, trial.offset};
+  for (const Expr& t : trial.transport) roots.push_back(t);
+  if (trial.second_function()) roots.push_back(trial.second_weight);
+  return std::make_shared<Tape>(roots, D);
+}
+
+/// The nonzeros of the whole matrix whose lower triangle `system` holds.
+std::size_t whole_nonzeros(const Eigen::SparseMatrix<double>& system) {
+  std::size_t diagonal_entries = 0;
+  for (Eigen::Index p = 0; p < system.outerSize(); ++p) {
+    const Eigen::SparseMatrix<double>::InnerIterator first(system, p);
+    diagonal_entries += first && first.row() == p ? 1 : 0;
+  }
+  return 2 * static_cast<std::size_t>(system.nonZeros()) - diagonal_entries;
+}
+
+/// Solves the system, fixes a pure Neumann solution's mean to 0, and
+/// spreads the coefficients over the relevant B-splines (P's, then Q's).
+template <int D>
+void solve_and_spread(PoissonSolution<D>& solution, const PoissonSystem& poisson, const PoissonAssembly& assembly,
+                      bool pure_neumann, LinearSolverKind kind, double tolerance) {
+  Eigen::VectorXd coefficients = solve_symmetric(poisson.matrix, poisson.right, kind, tolerance, solution.report);
+  const Eigen::SparseMatrix<double>& E = solution.basis.extension;
+  const Eigen::Index p_unknowns = E.cols();
+  if (pure_neumann)  // zero mean of u = u0 + sum c v: the constant is P's vector of ones
+    coefficients.head(p_unknowns).array() -=
+        (poisson.mean_row.dot(coefficients) + assembly.offset_mean) / poisson.mean_row.head(p_unknowns).sum();
+  solution.spline_coefficients = E * coefficients.head(p_unknowns);
+  const Eigen::SparseMatrix<double>& second = poisson.second_select;
+  if (second.cols() > 0) solution.second_coefficients = E * (second * coefficients.tail(second.cols()));
+}
+
+}  // namespace
+
 template <int D>
 PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOptions& options) {
   if (given.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
@@ -321,20 +439,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   StageTimer timer(report);
   const int n = options.degree;
 
-  // Field: the domain's pieces and their Boolean formula, compiled (not for
-  // mesh domains, whose cells come from the triangles).
+  // Setup: the domain's pieces, the cells, the routes, the rules, the basis, the data checked.
   DomainCells<D> cells(given.domain, given.boundary_mesh);
   timer.lap(&StageSeconds::field);
-
-  // Classification of the background cells.
   const bool direct = options.linear_solver == LinearSolverKind::Direct ||
                       (options.linear_solver == LinearSolverKind::Automatic && options.robin == RobinRoute::Structure);
   const ClassifiedGrid<D> classified = classify_grid<D>(cells, given.min, given.max, options.cell_width, n,
                                                         {direct, 1, options.memory_limit_mb}, report);
-  const BackgroundGrid<D>& grid = classified.grid;
-  const std::vector<std::size_t>& candidates = classified.candidates;
-  const std::vector<CellKind>& kinds = cells.kinds();
-  const std::array<double, 3>& interior = classified.interior;
+  const double h = classified.grid.h;
   // Gauss with n + 1 nodes per direction, in inside cells and on every
   // piece of a cut cell whose active pieces are planar: exact for the
   // polynomial part (degree 2n + 1). One more where a curved piece is
@@ -343,147 +455,69 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
   const QuadratureOptions quadrature{inside_points, inside_points, options.max_subdivision, 1};
   timer.lap(&StageSeconds::classification);
-
-  // Named Neumann and Robin parts and no default: the rest is Dirichlet
-  // u = 0 where it exists, but the named parts may claim the whole
-  // boundary, and then the problem is a Neumann or Robin problem (pure
-  // Neumann without Robin parts). The surface points tell; their rules
-  // serve below unless the Robin structure's band refines some cells.
   std::optional<CellRules<D>> early_rules;
-  PoissonProblem problem = given;
-  bool named_dirichlet = false, named_weak = false;
-  for (const BoundaryPart& part : given.parts) {
-    named_dirichlet = named_dirichlet || part.kind == BoundaryKind::Dirichlet;
-    named_weak = named_weak || part.kind != BoundaryKind::Dirichlet;
-  }
-  if (!given.rest_given && named_weak && !named_dirichlet) {
-    early_rules = integrate_cells(cells, classified, quadrature, quadrature, {}, true);
-    if (rest_points(given, *early_rules, classified.grid.h) == 0) {
-      problem.rest.kind = BoundaryKind::Neumann;
-      problem.rest.flux = 0.0;
-      problem.rest_given = true;
-    }
-  }
-
-  const bool has_dirichlet = named_dirichlet || problem.rest.kind == BoundaryKind::Dirichlet;
-  const bool has_weak = named_weak || problem.rest.kind != BoundaryKind::Dirichlet;
-  const bool structured = options.robin == RobinRoute::Structure && has_weak;
-  if (structured && n < 2)
-    throw std::invalid_argument(
-        "the Robin structure needs second derivatives of the B-splines: use degree 2 or more (or the weak route)");
-  DirichletRoute route = options.dirichlet;
-  // Nitsche's method leans on the WEB extension for its stability (plain
-  // B-splines with slivers of support need no penalty bound); the Robin
-  // structure is built on the Dirichlet structure.
-  if (route == DirichletRoute::Automatic)
-    route = structured || options.basis == BasisKind::Weighted ? DirichletRoute::Structure : DirichletRoute::Weak;
-  if (route == DirichletRoute::Weak && structured)
-    throw std::invalid_argument(
-        "the Robin structure is built on the Dirichlet structure: impose Dirichlet conditions by the structure too "
-        "(--dirichlet structure), or Neumann and Robin conditions weakly");
-  const bool weak_dirichlet = route == DirichletRoute::Weak && has_dirichlet;
-  const BoundaryStructure structure = boundary_structure(problem, interior, route == DirichletRoute::Structure);
-  report.dirichlet_route = route == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
-  if (weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
-  const bool needs_surface = structure.has_weak_parts || weak_dirichlet;
+  const PoissonProblem problem = posed_problem(given, cells, classified, quadrature, early_rules);
+  const PoissonRoutes routes = poisson_routes(problem, options);
+  const BoundaryStructure structure =
+      boundary_structure(problem, classified.interior, routes.dirichlet == DirichletRoute::Structure);
+  report.dirichlet_route = routes.dirichlet == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
+  if (routes.weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
   double longest = 0.0;
   for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
-  if (structured) report.robin_band = robin_band_width(options.robin_band, grid.h, longest);
+  if (routes.structured) report.robin_band = robin_band_width(options.robin_band, h, longest);
   // Nitsche's trial functions are the WEB B-splines themselves: the
   // structure's omega_D = 1 and g~ = 0 then (boundary_structure()).
-  const TrialStructure trial = structured
+  const TrialStructure trial = routes.structured
                                    ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
                                    : dirichlet_trial(structure);
   const bool second = trial.second_function();
-  // Cells that may meet the structure's band (omega_R < band over the cell,
-  // by intervals) hold its cut-offs, polynomials of degree power + 2 or so in
-  // omega_R times the splines, and their C^(power - 1) edge: a finer rule
-  // there (with n + 1 points, degree 3, h = 0.0125: H1 error 7.8e-4 against 3.6e-9).
-  std::vector<char> in_band(candidates.size(), 0);
-  if (second) {
-    const Tape field(trial.robin_field, D);
-    Evaluator<Interval> eval(field);
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      const Box<D> box = cell_box(grid, candidates[k]);
-      std::array<Interval, 3> x{Interval(0.0), Interval(0.0), Interval(0.0)};
-      for (int a = 0; a < D; ++a) x[static_cast<std::size_t>(a)] = Interval(box.lo[a], box.hi[a]);
-      eval.evaluate_with(x.data());
-      in_band[k] = !(eval.result().lo >= *report.robin_band) ? 1 : 0;  // NaN: may meet it
-    }
-  }
   const int band_points = inside_points + kBandExtraPoints;
   const QuadratureOptions band_quadrature{band_points + 1, band_points, options.max_subdivision, 0};
-
-  // Quadrature: volume rules of inside and cut cells, surface rules where
-  // a weak condition may hold.
+  // Volume rules of inside and cut cells, surface rules where a weak condition may hold.
   CellRules<D> rules = early_rules && !second
                            ? std::move(*early_rules)
-                           : integrate_cells(cells, classified, quadrature, band_quadrature, in_band, needs_surface);
+                           : integrate_cells(cells, classified, quadrature, band_quadrature,
+                                             band_cells(trial, classified, report.robin_band.value_or(0.0)),
+                                             structure.has_weak_parts || routes.weak_dirichlet);
   report_fallbacks(rules.counts, report);
-  const auto& volume = rules.volume;
-  const auto& surface = rules.surface;
-  check_data(poisson_data_rules(problem, route == DirichletRoute::Structure), rules, grid.h);
+  check_data(poisson_data_rules(problem, routes.dirichlet == DirichletRoute::Structure), rules, h);
   timer.lap(&StageSeconds::quadrature);
-
-  // Basis and assembly.
   solution.basis = basis_on_cells(cells, classified, rules, options.basis, report);
   if (options.keep_quadrature) solution.quadrature = quadrature_dump(rules);
-  const SplineBasis<D>& basis = solution.basis;
-
-  std::vector<Expr> trial_roots{trial.scale, trial.offset};
-  for (const Expr& t : trial.transport) trial_roots.push_back(t);
-  if (second) trial_roots.push_back(trial.second_weight);
-  auto structure_tape = std::make_shared<Tape>(trial_roots, D);
-  if (structured) check_robin_structure(structure, trial, grid.h, volume, surface);
-  solution.structure = structure_tape;
+  solution.structure = trial_tape<D>(trial);
+  if (routes.structured) check_robin_structure(structure, trial, h, rules.volume, rules.surface);
   solution.mesh = cells.mesh();
   if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
 
-  PoissonAssembly assembly =
-      assemble_poisson<D>({problem, structure, basis, candidates, kinds, rules, *structure_tape, structured, second,
-                           weak_dirichlet, inside_points, report.nitsche_penalty.value_or(0.0)});
-  const PoissonSystem poisson = poisson_system(basis, assembly, structure.pure_neumann, second, report);
-  const Eigen::SparseMatrix<double>& system = poisson.matrix;
-  const Eigen::SparseMatrix<double>& E = basis.extension;
-  const bool pure_neumann = structure.pure_neumann;
-  const Eigen::VectorXd& mean_row = poisson.mean_row;
-  const Eigen::SparseMatrix<double>& second_select = poisson.second_select;
-  std::size_t diagonal_entries = 0;
-  for (Eigen::Index p = 0; p < system.outerSize(); ++p) {
-    const Eigen::SparseMatrix<double>::InnerIterator first(system, p);
-    diagonal_entries += first && first.row() == p ? 1 : 0;
-  }
-  report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - diagonal_entries;  // of the whole matrix
+  // Assembly by the shared cell loop, then the system.
+  PoissonAssembly assembly = assemble_poisson<D>(
+      {problem, structure, solution.basis, classified.candidates, cells.kinds(), rules, *solution.structure,
+       routes.structured, second, routes.weak_dirichlet, inside_points, report.nitsche_penalty.value_or(0.0)});
+  const PoissonSystem poisson = poisson_system(solution.basis, assembly, structure.pure_neumann, second, report);
+  report.nonzeros = whole_nonzeros(poisson.matrix);
   timer.lap(&StageSeconds::assembly);
 
-  // Solve.
+  // Solve. The structure's second function has functions of very different
+  // energy near the band's edge (diagonal entries over 1e14 apart), where
+  // incomplete Cholesky needs 1e4 iterations and more. Automatic in 3D:
+  // Jacobi, then incomplete Cholesky when Jacobi is too slow (linear_solve.hpp).
   LinearSolverKind kind = options.linear_solver;
-  // The structure's second function has functions of very different energy near the band's edge
-  // (diagonal entries over 1e14 apart), where incomplete Cholesky needs 1e4 iterations and more.
-  // Automatic in 3D: Jacobi, then incomplete Cholesky when Jacobi is too slow (linear_solve.hpp).
   if (kind == LinearSolverKind::Automatic && (second || D == 2))
     kind = second ? LinearSolverKind::Direct : LinearSolverKind::ConjugateGradient;
-  const double tolerance =
-      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(grid.h, longest, n);
-  Eigen::VectorXd coefficients = solve_symmetric(system, poisson.right, kind, tolerance, report);
-  const Eigen::Index p_unknowns = E.cols();
-  if (pure_neumann)  // zero mean of u = u0 + sum c v: the constant is P's vector of ones
-    coefficients.head(p_unknowns).array() -=
-        (mean_row.dot(coefficients) + assembly.offset_mean) / mean_row.head(p_unknowns).sum();
-  solution.spline_coefficients = E * coefficients.head(p_unknowns);
-  if (second) solution.second_coefficients = E * (second_select * coefficients.tail(second_select.cols()));
+  const double tolerance = options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(h, longest, n);
+  solve_and_spread(solution, poisson, assembly, structure.pure_neumann, kind, tolerance);
   timer.lap(&StageSeconds::solve);
 
+  // Post-processing.
   if (options.estimate_condition) {
     const ConditionEstimate estimate =
-        estimate_condition(Eigen::SparseMatrix<double>(system.selfadjointView<Eigen::Lower>()));
+        estimate_condition(Eigen::SparseMatrix<double>(poisson.matrix.selfadjointView<Eigen::Lower>()));
     report.condition = estimate.condition;
     report.scaled_condition = estimate.scaled_condition;
     timer.lap(&StageSeconds::condition);
   }
-
   if (problem.exact) {
-    poisson_errors(solution, *problem.exact, volume, report);
+    poisson_errors(solution, *problem.exact, rules.volume, report);
     timer.lap(&StageSeconds::errors);
   }
   return solution;
