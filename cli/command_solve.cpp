@@ -9,7 +9,6 @@
 #include "solve_output.hpp"
 
 #include <sage/output/output_file.hpp>
-#include <sage/output/point_arrays.hpp>
 #include <sage/solver/bspline.hpp>
 #include <sage/solver/poisson.hpp>
 
@@ -43,42 +42,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   const solver::SolveReport& r = solution.report;
 
   const auto start = std::chrono::steady_clock::now();
-  const Grid grid = output_grid(command, problem, command.options.cell_width);
-  const output::ClippedGrid part = clipped_output<D>(grid, solution.domain, solution.mesh, solution.basis.grid.h);
-  const std::vector<std::array<double, 3>> points = part.points();
-  const std::size_t n = points.size();
-  output::PointArray u{"u", 1, std::vector<double>(n)}, grad{"grad_u", 3, std::vector<double>(3 * n, 0.0)};
-  output::PointArray exact{"u_exact", 1, {}}, error{"error", 1, {}};
-  std::optional<Tape> exact_tape;
-  if (problem.exact) {
-    exact_tape.emplace(*problem.exact, D);
-    exact.values.resize(n);
-    error.values.resize(n);
-  }
-#pragma omp parallel
-  {
-    typename solver::PoissonSolution<D>::Probe probe(solution);
-    std::optional<Evaluator<double>> exact_eval;
-    if (exact_tape) exact_eval.emplace(*exact_tape);
-#pragma omp for schedule(dynamic, 1024)
-    for (std::size_t i = 0; i < n; ++i) {
-      const double* p = points[i].data();
-      double g[3] = {0, 0, 0};
-      u.values[i] = probe.at(p, g);
-      for (int a = 0; a < D; ++a) grad.values[3 * i + static_cast<std::size_t>(a)] = g[a];
-      if (exact_eval) {
-        exact_eval->evaluate(p);
-        exact.values[i] = exact_eval->result();
-        error.values[i] = u.values[i] - exact.values[i];
-      }
-    }
-  }
-  std::vector<output::PointArray> arrays{u, grad};
-  if (problem.exact) {
-    arrays.push_back(exact);
-    arrays.push_back(error);
-  }
-  part.write(command.output_path, arrays);
+  const WrittenSolution written = write_solution<D>(command, problem, solution, problem.exact);
   write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -107,7 +71,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
       "errors %.3f, output %.3f\n",
       s.field, s.classification, s.quadrature, s.assembly, s.solve, s.condition, s.errors, output_seconds);
-  print_written(command.output_path, part, grid);
+  print_written(command.output_path, written);
 }
 
 }  // namespace

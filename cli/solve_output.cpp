@@ -1,8 +1,8 @@
 #include "solve_output.hpp"
 
+#include <sage/output/clipped_grid.hpp>
 #include <sage/output/point_arrays.hpp>
-#include <sage/sampling/pruned_grid.hpp>
-#include <sage/solver/domain_probe.hpp>
+#include <sage/solver/solution_samples.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,57 +11,58 @@
 namespace sage::cli {
 
 Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h) {
-  Grid grid;
-  grid.dimension = problem.dimension;
-  grid.lo = problem.min;
-  grid.hi = problem.max;
+  std::optional<std::array<int, 3>> points;
   if (!command.grid.empty()) {
     try {
-      grid.points = Grid::parse_resolution(command.grid, problem.dimension);
+      points = Grid::parse_resolution(command.grid, problem.dimension);
     } catch (const std::invalid_argument& e) {
       throw UsageError{std::string("--grid: ") + e.what()};
     }
-  } else {
-    const int per_cell = problem.dimension == 2 ? 4 : 2, cap = problem.dimension == 2 ? 401 : 97;
-    for (int a = 0; a < problem.dimension; ++a)
-      grid.points[a] = std::clamp(static_cast<int>(std::ceil((grid.hi[a] - grid.lo[a]) / h)) * per_cell + 1, 2, cap);
   }
-  if (problem.dimension == 2) grid.points[2] = 1;
-  return grid;
+  return solver::solution_grid(problem.dimension, problem.min, problem.max, h, points);
 }
 
-bool sample_large_omega(const std::shared_ptr<const Tape>& domain, const Grid& grid, std::vector<double>& omega) {
-  if (!domain || domain->code().size() <= kLargeField) return false;
-  Approximation approximation;
-  approximation.tolerance = kOutputOmegaTolerance * grid.diagonal();
-  for_each_grid_point_pruned<double>(
-      *domain, grid, [&](std::size_t i, const auto& results) { omega[i] = results.result(0); }, {}, &approximation);
-  return true;
+namespace {
+
+template <int D, class Solution, class Exact>
+WrittenSolution write_points(const SolveCommand& command, const solver::PoissonProblem& problem,
+                             const Solution& solution, const Exact& exact) {
+  const Grid grid = output_grid(command, problem, command.options.cell_width);
+  const output::ClippedGrid part(grid,
+                                 solver::omega_on_grid<D>(solution.domain, solution.mesh, solution.basis.grid.h, grid));
+  part.write(command.output_path, solver::sample_solution(solution, exact, part.points()));
+  return {grid.size(), part.cell_count(), part.point_count()};
+}
+
+}  // namespace
+
+template <int D>
+WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+                               const solver::PoissonSolution<D>& solution, const std::optional<Expr>& exact) {
+  return write_points<D>(command, problem, solution, exact);
 }
 
 template <int D>
-output::ClippedGrid clipped_output(const Grid& grid, const std::shared_ptr<const Tape>& domain,
-                                   const std::shared_ptr<const solver::MeshDomain>& mesh, double cell_width) {
-  std::vector<double> omega(grid.size());
-  if (!sample_large_omega(domain, grid, omega)) {
-#pragma omp parallel
-    {
-      solver::DomainProbe<D> probe(domain, mesh, cell_width);
-#pragma omp for schedule(dynamic, 1024)
-      for (std::size_t i = 0; i < grid.size(); ++i) omega[i] = probe.at(grid.point(i).data());
-    }
-  }
-  return output::ClippedGrid(grid, omega);
+WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+                               const solver::ElasticitySolution<D>& solution,
+                               const std::optional<std::array<Expr, 3>>& exact) {
+  return write_points<D>(command, problem, solution, exact);
 }
 
-template output::ClippedGrid clipped_output<2>(const Grid&, const std::shared_ptr<const Tape>&,
-                                               const std::shared_ptr<const solver::MeshDomain>&, double);
-template output::ClippedGrid clipped_output<3>(const Grid&, const std::shared_ptr<const Tape>&,
-                                               const std::shared_ptr<const solver::MeshDomain>&, double);
+template WrittenSolution write_solution<2>(const SolveCommand&, const solver::PoissonProblem&,
+                                           const solver::PoissonSolution<2>&, const std::optional<Expr>&);
+template WrittenSolution write_solution<3>(const SolveCommand&, const solver::PoissonProblem&,
+                                           const solver::PoissonSolution<3>&, const std::optional<Expr>&);
+template WrittenSolution write_solution<2>(const SolveCommand&, const solver::PoissonProblem&,
+                                           const solver::ElasticitySolution<2>&,
+                                           const std::optional<std::array<Expr, 3>>&);
+template WrittenSolution write_solution<3>(const SolveCommand&, const solver::PoissonProblem&,
+                                           const solver::ElasticitySolution<3>&,
+                                           const std::optional<std::array<Expr, 3>>&);
 
-void print_written(const std::string& path, const output::ClippedGrid& part, const Grid& grid) {
+void print_written(const std::string& path, const WrittenSolution& written) {
   std::printf("wrote %s: the domain's part of a grid of %zu points (%zu cells clipped at omega = 0, %zu points)\n",
-              path.c_str(), grid.size(), part.cell_count(), part.point_count());
+              path.c_str(), written.grid_points, written.cells, written.points);
 }
 
 void write_quadrature(const SolveCommand& command, const solver::QuadratureDump& q) {
@@ -75,9 +76,9 @@ void print_solve_report(const solver::SolveReport& r, const std::shared_ptr<cons
       "  cells: %zu in the grid, %zu inside, %zu cut; quadrature points: %zu volume, %zu surface; memory estimate %.0f "
       "MB\n",
       r.cells, r.cells_inside, r.cells_cut, r.volume_points, r.surface_points, r.memory_estimate_mb);
-  if (domain && domain->code().size() > kLargeField)
+  if (solver::omega_from_patches(domain))
     std::printf("  output omega: far-field patches within %g of the diagonal (%zu instructions)\n",
-                kOutputOmegaTolerance, domain->code().size());
+                solver::kOutputOmegaTolerance, domain->code().size());
   else if (mesh)
     std::printf("  output omega: signed distance to the mesh, exact within %g cells\n", solver::kMeshDistanceBand);
   if (r.unbroken_boxes > 0)

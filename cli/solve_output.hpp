@@ -1,16 +1,14 @@
 #pragma once
 // What `sage solve` shares between its physics (command_solve.cpp for
-// Poisson, solve_elasticity.cpp): the parsed command, the output grid, the
-// domain field on it, and the grid cells that cover the domain.
+// Poisson, solve_elasticity.cpp): the parsed command, the output grid and
+// the solution file, the summary's shared lines.
 
 #include "commands.hpp"
 
 #include <sage/problems/problem_file.hpp>
-
-#include <sage/output/clipped_grid.hpp>
-#include <sage/solver/mesh_domain.hpp>
-
 #include <sage/sampling/grid.hpp>
+#include <sage/solver/elasticity.hpp>
+#include <sage/solver/poisson.hpp>
 #include <sage/solver/solver_options.hpp>
 
 #include <functional>
@@ -32,30 +30,27 @@ struct SolveCommand {
   bool quiet = false;
 };
 
-/// The output grid: --grid, else 4 points per background cell (at most 401
-/// per axis in 2D, 2 and 97 in 3D), over the problem's box.
+/// The output grid: --grid, else solution_grid's default, over the problem's box.
 Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h);
 
-/// Fields of more instructions than this get their output omega from grid
-/// sampling with far-field patches (pruned_grid.hpp), within
-/// kOutputOmegaTolerance of the diagonal: a polygon's R0 tree of 718 edges
-/// takes 3 s at the 160,801 points of 128 cells, exactly.
-constexpr std::size_t kLargeField = 2000;
-constexpr double kOutputOmegaTolerance = 1e-10;
+/// What write_solution wrote, for the summary's last line.
+struct WrittenSolution {
+  std::size_t grid_points = 0, cells = 0, points = 0;
+};
 
-/// True when omega of `domain` is sampled (a large field); then fills `omega`.
-bool sample_large_omega(const std::shared_ptr<const Tape>& domain, const Grid& grid, std::vector<double>& omega);
-
-/// The part of the output grid in the domain: omega at the grid's points
-/// (large fields by sample_large_omega, others by the domain's probe),
-/// then the cells clipped at omega = 0 (output/clipped_grid.hpp), where
-/// the solution is sampled.
+/// Clips the output grid at omega = 0 (output/clipped_grid.hpp), samples
+/// the solution at the clip's points (solver/solution_samples.hpp) and
+/// writes them, with omega, to the command's output.
 template <int D>
-output::ClippedGrid clipped_output(const Grid& grid, const std::shared_ptr<const Tape>& domain,
-                                   const std::shared_ptr<const solver::MeshDomain>& mesh, double cell_width);
+WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+                               const solver::PoissonSolution<D>& solution, const std::optional<Expr>& exact);
+template <int D>
+WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+                               const solver::ElasticitySolution<D>& solution,
+                               const std::optional<std::array<Expr, 3>>& exact);
 
 /// The summary's last line: what the solution file holds.
-void print_written(const std::string& path, const output::ClippedGrid& part, const Grid& grid);
+void print_written(const std::string& path, const WrittenSolution& written);
 
 /// Writes the quadrature points when asked (--quadrature-points).
 void write_quadrature(const SolveCommand& command, const solver::QuadratureDump& quadrature);

@@ -5,17 +5,14 @@
 // vtk_writer.hpp (binary, appended, LZ4).
 
 #include <sage/sampling/grid.hpp>
+#include <sage/sampling/point_array.hpp>
 
 #include <string>
 #include <vector>
 
 namespace sage::output {
 
-struct PointArray {
-  std::string name;
-  int components = 1;
-  std::vector<double> values;  // components per grid point, in grid order
-};
+using PointArray = sage::PointArray;  // values in grid order here
 
 /// Writes a .vtu of the grid's quads (2D) or hexahedra (3D) for which
 /// keep_cell[cell] is nonzero (every cell when keep_cell is empty), with
