@@ -16,7 +16,7 @@
 // tuple at a time, rows against point by point).
 
 #include <sage/expression/trimming.hpp>
-#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/rfunction_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>

@@ -12,7 +12,7 @@
 #include "mesh_grid.hpp"
 
 #include <sage/geometry/mesh_model.hpp>
-#include <sage/sampling/far_field.hpp>
+#include <sage/tape/far_field.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/grid.hpp>
 #include <sage/tape/evaluator.hpp>

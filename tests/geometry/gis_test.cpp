@@ -178,7 +178,9 @@ TEST(GisValidation, FaultsAfterRepairSuggestLeavingTheFeatureOut) {
       const std::string what = e.what();
       EXPECT_NE(what.find("edges cross"), std::string::npos) << what;
       EXPECT_EQ(what.find("use --repair") != std::string::npos, !repaired) << what;
-      if (repaired) EXPECT_NE(what.find("--feature"), std::string::npos) << what;
+      if (repaired) {
+        EXPECT_NE(what.find("--feature"), std::string::npos) << what;
+      }
     }
   }
 }

@@ -10,7 +10,7 @@
 
 #include <sage/expression/primitives.hpp>
 #include <sage/expression/trimming.hpp>
-#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/pruned_grid.hpp>
 #include <sage/tape/tape_specialization.hpp>

@@ -1,4 +1,4 @@
-// Bounds of partial derivatives over a box (libsage/src/partial_bounds.hpp,
+// Bounds of partial derivatives over a box (libsage/src/tape/partial_bounds.hpp,
 // internal: far-field approximation tightens a patch's tolerance by how
 // much the operations above it can amplify its error). Every bound holds
 // against finite differences at random points of random boxes, and the
@@ -6,7 +6,7 @@
 
 #include "test_support.hpp"
 
-#include "../../libsage/src/partial_bounds.hpp"
+#include "../../libsage/src/tape/partial_bounds.hpp"
 
 #include <sage/scalars/rfunction.hpp>
 #include <sage/tape/evaluator.hpp>

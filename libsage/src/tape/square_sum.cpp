@@ -17,7 +17,7 @@
 
 #include <sage/tape/square_sum.hpp>
 
-#include "vector_clones.hpp"
+#include "../scalars/vector_clones.hpp"
 
 #include <type_traits>
 

@@ -1,7 +1,7 @@
-#include <sage/sampling/chebyshev_patch.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/scalars/tuple.hpp>
 
-#include "vector_clones.hpp"
+#include "../scalars/vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,8 +11,8 @@
 
 #include <sage/tape/linear_form.hpp>
 
-#include "lane_steps.hpp"
-#include "vector_clones.hpp"
+#include "../scalars/lane_steps.hpp"
+#include "../scalars/vector_clones.hpp"
 
 namespace sage {
 

@@ -1,6 +1,6 @@
 #include <sage/tape/far_faces.hpp>
 
-#include "vector_clones.hpp"
+#include "../scalars/vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -11,8 +11,8 @@
 
 #include <sage/scalars/tuple.hpp>
 
-#include "lane_steps.hpp"
-#include "vector_clones.hpp"
+#include "../scalars/lane_steps.hpp"
+#include "../scalars/vector_clones.hpp"
 
 #include <algorithm>
 #include <array>

@@ -7,8 +7,8 @@
 
 #include <sage/scalars/rfunction.hpp>
 
-#include "lane_steps.hpp"
-#include "vector_clones.hpp"
+#include "../scalars/lane_steps.hpp"
+#include "../scalars/vector_clones.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include "partial_bounds.hpp"
 #include "tape_specializer_state.hpp"
 
-#include <sage/sampling/far_field.hpp>
+#include <sage/tape/far_field.hpp>
 #include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
