@@ -16,11 +16,11 @@
 // tuple at a time, rows against point by point).
 
 #include <sage/expression/trimming.hpp>
-#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/rfunction_lanes.hpp>
 #include <sage/scalars/tuple_op_lanes.hpp>
 #include <sage/tape/batch_evaluator.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/tape/square_sum.hpp>
 
 #include <benchmark/benchmark.h>

@@ -12,11 +12,11 @@
 #include "mesh_grid.hpp"
 
 #include <sage/geometry/mesh_model.hpp>
-#include <sage/tape/far_field.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/grid.hpp>
 #include <sage/tape/evaluator.hpp>
 #include <sage/tape/far_faces.hpp>
+#include <sage/tape/far_field.hpp>
 
 #include <algorithm>
 #include <chrono>

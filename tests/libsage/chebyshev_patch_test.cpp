@@ -10,9 +10,9 @@
 
 #include <sage/expression/primitives.hpp>
 #include <sage/expression/trimming.hpp>
-#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/pruned_grid.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
-#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/scalars/tuple.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 
 #include "../scalars/vector_clones.hpp"
 

@@ -1,8 +1,8 @@
 #include "partial_bounds.hpp"
 #include "tape_specializer_state.hpp"
 
-#include <sage/tape/far_field.hpp>
 #include <sage/tape/evaluator.hpp>
+#include <sage/tape/far_field.hpp>
 
 #include <algorithm>
 #include <array>

@@ -15,10 +15,10 @@
 //     Tuple<2, 4> t = tuples.at({0.5, 0.25});   // value and partials to order 4
 
 #include <sage/expression/classifier.hpp>
-#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/scalars/interval.hpp>
 #include <sage/scalars/rfunction.hpp>
 #include <sage/scalars/tuple.hpp>
+#include <sage/tape/chebyshev_patch.hpp>
 #include <sage/tape/tape.hpp>
 
 #include <array>

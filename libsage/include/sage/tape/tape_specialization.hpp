@@ -26,9 +26,9 @@
 //     if (auto smaller = specializer.specialize(box.data())) use(*smaller);
 //     else use(tape);   // nothing to prune over this box
 
-#include <sage/tape/far_field.hpp>
 #include <sage/scalars/interval.hpp>
 #include <sage/scalars/tuple.hpp>
+#include <sage/tape/far_field.hpp>
 #include <sage/tape/tape.hpp>
 
 #include <array>
