@@ -9,7 +9,7 @@
 // <= 2e4 unknowns in < 2 s; Lame degree 3 to L2 1e-7 with <= 3e4 unknowns
 // in < 3 s; the sphere to L2 1e-4 with <= 6e4 unknowns in < 15 s and 2 GB.
 
-#include <sage/solver/elastic_benchmarks.hpp>
+#include <elastic_benchmarks.hpp>
 
 #include "bench_support.hpp"
 

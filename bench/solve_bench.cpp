@@ -38,6 +38,8 @@
 
 #include "bench_support.hpp"
 
+#include <solver_fixtures.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

@@ -3,7 +3,7 @@
 // pressure), Kirsch's plate (rollers, traction, the stress concentration),
 // Timoshenko's cantilever and, in 3D, the thick sphere; and the problems
 // the solver must refuse.
-#include <sage/solver/elastic_benchmarks.hpp>
+#include <elastic_benchmarks.hpp>
 
 #include <gtest/gtest.h>
 

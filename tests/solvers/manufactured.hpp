@@ -10,6 +10,8 @@
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 
+#include <solver_fixtures.hpp>
+
 #include <array>
 #include <cmath>
 #include <functional>

@@ -1,6 +1,6 @@
 #pragma once
 // Elasticity problems with exact solutions (elasticity.hpp), for the tests
-// and bench/solve_bench: the classical solutions of Lame, Kirsch and
+// and bench/solve_bench (not installed): the classical solutions of Lame, Kirsch and
 // Timoshenko, the thick sphere, and a linear patch test. Each problem
 // carries its exact displacement; the data on its boundary come from the
 // exact stress, so the discrete solution converges to it.
