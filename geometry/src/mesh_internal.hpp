@@ -4,6 +4,7 @@
 //
 // Pipeline (mesh_model.cpp):
 //   read_mesh_soup       mesh_reader.cpp      file -> points + triangles
+//     read_off, read_ply off_reader.cpp, ply_reader.cpp (else CGAL's readers)
 //   validate_mesh        mesh_validation.cpp  exact checks, outward orientation
 //   make_mesh_classifier mesh_classifier.cpp  xi(p) with Side_of_triangle_mesh
 //   brep_distance / convex_csg     mesh_field.cpp, mesh_csg.cpp
@@ -104,7 +105,8 @@ struct Soup {
   std::string face_name(std::size_t triangle) const;
 };
 
-/// Reads OFF, STL, OBJ or PLY with CGAL's readers. With `repair`, merges
+/// Reads OFF and PLY with sage's readers (off_ply_reader.hpp), STL and OBJ
+/// with CGAL's. With `repair`, merges
 /// duplicated points and drops duplicated or invalid polygons first
 /// (PMP::repair_polygon_soup), reporting counts. Throws ModelError naming
 /// the file (unreadable, malformed, empty, a bad index or coordinate, a

@@ -1,11 +1,15 @@
-// Reading meshes with CGAL's polygon soup readers (OFF, STL, OBJ, PLY) into
-// a triangle soup; planar polygons are triangulated.
+// Reading meshes into a triangle soup: OFF and PLY with sage's readers
+// (off_ply_reader.hpp: CGAL 5.5's trust the file), STL and OBJ with CGAL's
+// polygon soup readers; planar polygons are triangulated.
 #include "mesh_internal.hpp"
+#include "off_ply_reader.hpp"
 
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -87,6 +91,38 @@ std::vector<Triangle> triangulate_polygon(const Soup& soup, const std::vector<st
   return out;
 }
 
+// The whole file.
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open the file");
+  std::ostringstream data;
+  data << in.rdbuf();
+  if (in.bad()) fail(path, "cannot read the file");
+  return std::move(data).str();
+}
+
+// The file's points and polygons: OFF and PLY with sage's readers, STL and
+// OBJ with CGAL's.
+std::vector<std::vector<std::size_t>> read_polygons(const std::string& path, std::vector<Point>& points) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".off" || ext == ".ply") {
+    const std::string data = read_file(path);
+    PolygonSoup soup = ext == ".off" ? read_off(path, data) : read_ply(path, data);
+    points = std::move(soup.points);
+    return std::move(soup.polygons);
+  }
+  std::vector<std::vector<std::size_t>> polygons;
+  bool ok = false;
+  try {
+    ok = CGAL::IO::read_polygon_soup(path, points, polygons);
+  } catch (const std::exception& e) {
+    fail(path, std::string("malformed mesh file: ") + e.what());
+  }
+  if (!ok) fail(path, "malformed or unreadable mesh file (CGAL's " + ext + " reader failed)");
+  return polygons;
+}
+
 }  // namespace
 
 Soup read_mesh_soup(const std::string& path, bool repair) {
@@ -96,16 +132,7 @@ Soup read_mesh_soup(const std::string& path, bool repair) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) fail(path, "cannot open the file");
   }
-  std::vector<std::vector<std::size_t>> polygons;
-  bool ok = false;
-  try {
-    ok = CGAL::IO::read_polygon_soup(path, soup.points, polygons);
-  } catch (const std::exception& e) {
-    fail(path, std::string("malformed mesh file: ") + e.what());
-  }
-  if (!ok)
-    fail(path, "malformed or unreadable mesh file (CGAL's " + std::filesystem::path(path).extension().string() +
-                   " reader failed)");
+  std::vector<std::vector<std::size_t>> polygons = read_polygons(path, soup.points);
   if (polygons.empty()) fail(path, "the mesh has no faces");
 
   for (std::size_t v = 0; v < soup.points.size(); ++v) {
