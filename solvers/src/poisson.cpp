@@ -149,8 +149,9 @@ PoissonSystem poisson_system(const SplineBasis<D>& basis, PoissonAssembly& assem
     report.neumann_compatibility = defect;
     if (assembly.data_size > 0.0 && defect > kNeumannCompatibilityTolerance)
       throw std::invalid_argument(
-          "incompatible Neumann data: a pure Neumann problem needs (integral of f over the domain) + (integral of h "
-          "over the boundary) = 0, but it is " +
+          "incompatible Neumann data: no part of the boundary (/boundary) is Dirichlet or Robin with beta != 0, and "
+          "such a pure Neumann problem needs (integral of f over the domain) + (integral of h over the boundary) = "
+          "0, but it is " +
           scientific(total) + " (relative to the integrals of |f| and |h|: " + scientific(defect) +
           "); fix the data or give a part a Dirichlet or Robin condition");
     neumann_shift = total / mean_row.sum();

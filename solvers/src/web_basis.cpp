@@ -89,7 +89,7 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
       ++basis.outer_count;
     }
   }
-  if (basis.relevant.empty()) throw std::runtime_error("the domain is empty: no grid cell meets it");
+  if (basis.relevant.empty()) throw std::runtime_error("the domain (/domain) is empty: no grid cell meets it");
   const auto rows = static_cast<Eigen::Index>(basis.relevant.size());
   std::vector<Eigen::Triplet<double>> entries;
   if (kind == BasisKind::Weighted) {
@@ -102,7 +102,7 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
     return basis;
   }
   if (basis.inner_count == 0)
-    throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (use more cells)");
+    throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (/domain) (use more cells)");
   std::vector<long long> unknown_of(splines, -1);
   long long unknowns = 0;
   for (std::size_t s : basis.relevant) {

@@ -739,13 +739,16 @@ TEST(CliSolve, EmptyDomainAndTooCoarseGrid) {
               "field": { "formula": "-1 - x^2" } } })");
   Result r = run("solve " + empty + " -o " + scratch("bad.vtu").string() + " --cells 8");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("empty"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the domain (/domain) is empty in its bounds [-1 .. 1, -1 .. 1]"), std::string::npos)
+      << r.output;
   const std::string tiny = write_file("tiny.json", R"({
   "domain": { "dimension": 2, "bounds": { "min": [-1, -1], "max": [1, 1] },
               "field": { "primitive": "disk", "center": [0.1, 0.1], "radius": 0.05 } } })");
   r = run("solve " + tiny + " -o " + scratch("bad.vtu").string() + " --cells 4");
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("too coarse"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("too coarse: no cell of width 0.5 lies entirely inside the domain (/domain)"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(CliSolve, UsageErrorsExitTwo) {
