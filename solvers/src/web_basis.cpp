@@ -102,7 +102,8 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
     return basis;
   }
   if (basis.inner_count == 0)
-    throw std::runtime_error("the grid is too coarse: no grid cell lies entirely inside the domain (/domain) (use more cells)");
+    throw std::runtime_error(
+        "the grid is too coarse: no grid cell lies entirely inside the domain (/domain) (use more cells)");
   std::vector<long long> unknown_of(splines, -1);
   long long unknowns = 0;
   for (std::size_t s : basis.relevant) {

@@ -464,8 +464,8 @@ TEST(BatchEvaluator, FusedTrimmedFacesAreTheirInstructionsFound) {
   EXPECT_TRUE(runs[0].face.trimming_first);
   EXPECT_EQ(runs[0].face.first_sign, -1.0);
   // The planes' partials at a finite point are their coefficients.
-  for (const Plane& plane : runs[0].face.planes) {
-    ASSERT_EQ(plane.kind, Plane::Kind::ThreeTerms);
+  for (const FacePlane& plane : runs[0].face.planes) {
+    ASSERT_EQ(plane.kind, FacePlane::Kind::ThreeTerms);
     std::array<double, 3> gradient{};
     const std::array<double, 3> coefficient{plane.form.p, plane.form.q, plane.form.k};
     for (std::size_t a = 0; a < 3; ++a) gradient[static_cast<std::size_t>(plane.variables[a])] = coefficient[a];
@@ -478,13 +478,13 @@ TEST(BatchEvaluator, FusedTrimmedFacesAreTheirInstructionsFound) {
   const auto flat_runs = trimmed_face_runs(flat);
   ASSERT_EQ(flat_runs.size(), 1u);
   EXPECT_EQ(flat_runs[0].length, flat.code().size());
-  const Plane& own = flat_runs[0].face.planes[0];
-  EXPECT_TRUE(own.kind == Plane::Kind::Variable || own.kind == Plane::Kind::Negated);
+  const FacePlane& own = flat_runs[0].face.planes[0];
+  EXPECT_TRUE(own.kind == FacePlane::Kind::Variable || own.kind == FacePlane::Kind::Negated);
   EXPECT_EQ(own.variables[0], 2);
   EXPECT_EQ(std::abs(own.partials[2]), 1.0);
   int without_constant = 0;
   for (std::size_t k = 1; k < 4; ++k) {
-    EXPECT_EQ(flat_runs[0].face.planes[k].kind, Plane::Kind::TwoTerms);
+    EXPECT_EQ(flat_runs[0].face.planes[k].kind, FacePlane::Kind::TwoTerms);
     without_constant += !flat_runs[0].face.planes[k].form.has_offset;
   }
   EXPECT_EQ(without_constant, 2);  // the two sides through the vertex at x = y = 0

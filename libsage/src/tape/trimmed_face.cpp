@@ -20,7 +20,7 @@ namespace sage {
 namespace {
 
 constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-using Kind = Plane::Kind;
+using Kind = FacePlane::Kind;
 
 // A plane's value from its arguments' values, for a kind known at compile
 // time: tuples through the instructions' tuple arithmetic (a product by a
@@ -51,7 +51,7 @@ template <class F>
 
 // A partial of the plane, from its arguments' values (a0 and c0) and
 // partials j.
-double plane_partial(const Plane& plane, double a0, double c0, double aj, double bj, double cj) {
+double plane_partial(const FacePlane& plane, double a0, double c0, double aj, double bj, double cj) {
   const LinearForm& f = plane.form;
   double partial = aj;
   switch (plane.kind) {
@@ -70,7 +70,7 @@ double plane_partial(const Plane& plane, double a0, double c0, double aj, double
 // (registers no instruction writes, read as inputs). `length` is how many
 // instructions it takes.
 struct PlaneRun {
-  Plane plane;
+  FacePlane plane;
   std::size_t length = 0;
 };
 std::optional<PlaneRun> find_plane(const Tape& tape, std::size_t first, const std::vector<char>& is_constant,
@@ -82,7 +82,7 @@ std::optional<PlaneRun> find_plane(const Tape& tape, std::size_t first, const st
     return producer == Tape::kInput && r < static_cast<std::uint32_t>(tape.dimension()) && !is_constant[r];
   };
   PlaneRun run;
-  Plane& plane = run.plane;
+  FacePlane& plane = run.plane;
   if (auto form = find_linear_form(tape, first, is_constant, constant_value)) {
     const std::size_t product = first + 1;
     const std::uint32_t c_producer = producers[product][code[product].a == form->c ? 0 : 1];
@@ -130,8 +130,8 @@ std::optional<PlaneRun> find_plane(const Tape& tape, std::size_t first, const st
 }
 
 // The variable `r` itself as a plane (a face in the plane x = 0, say).
-Plane variable_plane(std::uint32_t r) {
-  Plane plane;
+FacePlane variable_plane(std::uint32_t r) {
+  FacePlane plane;
   plane.kind = Kind::Variable;
   plane.variables = {static_cast<int>(r), static_cast<int>(r), static_cast<int>(r)};
   return plane;
@@ -150,7 +150,7 @@ std::optional<TrimmedFaceRun> find_trimmed_face(const Tape& tape, std::size_t fi
 
   // The pieces, in the order the tape has them, up to the trimming.
   struct Found {
-    Plane plane;
+    FacePlane plane;
     std::size_t last;  // the instruction computing it
   };
   std::array<Found, 4> planes{};
@@ -190,7 +190,7 @@ std::optional<TrimmedFaceRun> find_trimmed_face(const Tape& tape, std::size_t fi
   // The data flow: S = h^2, U = R0(s, s'), T = R0(U, s'') (either order),
   // W = trim(T, h, S), each intermediate read by the run alone. A plane
   // is one of the pieces, or a variable read as it is.
-  std::array<Plane, 4> chosen{};
+  std::array<FacePlane, 4> chosen{};
   std::array<int, 4> piece{-1, -1, -1, -1};
   auto plane_of = [&](std::size_t slot, std::size_t reader, int argument) {
     const std::uint32_t producer = producers[reader][static_cast<std::size_t>(argument)];
@@ -234,7 +234,7 @@ std::optional<TrimmedFaceRun> find_trimmed_face(const Tape& tape, std::size_t fi
   face.planes = chosen;
   // The seeds' partials (1 for the variable itself, else 0) through each
   // plane's arithmetic, at a finite point (where 0.0 + a0 0.0 is 0.0).
-  for (Plane& plane : face.planes)
+  for (FacePlane& plane : face.planes)
     for (int j = 0; j < 3; ++j) {
       auto seed = [&](std::size_t argument) { return plane.variables[argument] == j ? 1.0 : 0.0; };
       plane.partials[static_cast<std::size_t>(j)] = plane_partial(plane, 0.0, 0.0, seed(0), seed(1), seed(2));
@@ -259,7 +259,7 @@ using Lanes3 = ConstFirstOrderLanes<3>;
 Tuple<3, 1> face_operators(const TrimmedFace& face, const std::array<Tuple<3, 1>, 3>& variables) {
   std::array<Tuple<3, 1>, 4> plane;
   for (std::size_t k = 0; k < 4; ++k) {
-    const Plane& p = face.planes[k];
+    const FacePlane& p = face.planes[k];
     const Tuple<3, 1>& a = variables[static_cast<std::size_t>(p.variables[0])];
     const Tuple<3, 1>& b = variables[static_cast<std::size_t>(p.variables[1])];
     const Tuple<3, 1>& c = variables[static_cast<std::size_t>(p.variables[2])];
@@ -277,7 +277,7 @@ Tuple<3, 1> face_operators(const TrimmedFace& face, const std::array<Tuple<3, 1>
 // values[l] = the plane's value at lanes [start, start + n), the kind
 // chosen once per chunk.
 template <bool Tuples>
-[[gnu::always_inline]] inline void plane_values(const Plane& plane, const std::array<const double*, 3>& coordinates,
+[[gnu::always_inline]] inline void plane_values(const FacePlane& plane, const std::array<const double*, 3>& coordinates,
                                                 std::size_t start, std::size_t n, double* values) {
   const double* a = coordinates[static_cast<std::size_t>(plane.variables[0])] + start;
   const double* b = coordinates[static_cast<std::size_t>(plane.variables[1])] + start;

@@ -35,7 +35,7 @@ namespace sage {
 /// A plane of a face: an affine function of the variables, as the tape
 /// writes it (terms with a zero coefficient are left out, a coefficient
 /// of 1 or -1 is no product), then + d if has_offset.
-struct Plane {
+struct FacePlane {
   enum class Kind : std::uint8_t {
     Variable,    // a
     Negated,     // -a
@@ -53,7 +53,7 @@ struct Plane {
 struct TrimmedFace {
   /// planes[0] is h; planes[1] and planes[2] are the first R0's arguments,
   /// in order; planes[3] is the second R0's other argument.
-  std::array<Plane, 4> planes{};
+  std::array<FacePlane, 4> planes{};
   double first_sign = -1, second_sign = -1;  // -1 conjunction, +1 disjunction
   bool trimming_first = true;                // the first R0 is the second's first argument
   SmoothTrim trim;
