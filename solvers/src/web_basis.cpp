@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace sage::solver {
 
@@ -58,6 +60,46 @@ double lagrange_weight(int n, int m, double x) {
   for (int mu = 0; mu <= n; ++mu)
     if (mu != m) w *= (x - mu) / (m - mu);
   return w;
+}
+
+/// The lower corner l of the full array of inner B-splines l + {0..n}^D
+/// whose centre is nearest outer spline j (Hoellig's WEB extension), from
+/// growing shells of corners around j.
+template <int D>
+std::array<int, D> nearest_inner_array(const BackgroundGrid<D>& grid, const std::vector<char>& block_ok,
+                                       const std::array<int, D>& j) {
+  const int n = grid.degree;
+  for (int radius = 0; radius <= 2 * (n + 1) + 64; ++radius) {
+    double best_distance = std::numeric_limits<double>::infinity();
+    std::optional<std::array<int, D>> best;
+    std::array<int, D> lo{}, span{};
+    int total = 1;
+    for (int a = 0; a < D; ++a) {
+      lo[a] = j[a] - n / 2 - radius;
+      span[a] = 2 * radius + 1;
+      total *= span[a];
+    }
+    for (int k = 0; k < total; ++k) {
+      std::array<int, D> l{};
+      int rest = k;
+      bool in_range = true;
+      double distance = 0.0;
+      for (int a = 0; a < D; ++a) {
+        l[a] = lo[a] + rest % span[a];
+        rest /= span[a];
+        in_range = in_range && l[a] >= 0 && l[a] + n < grid.splines_along(a);
+        const double d = l[a] + 0.5 * n - j[a];
+        distance += d * d;
+      }
+      if (!in_range || !block_ok[grid.spline_linear(l)] || distance >= best_distance) continue;
+      best_distance = distance;
+      best = l;
+    }
+    if (best) return *best;
+  }
+  throw std::runtime_error("the grid is too coarse for the WEB basis: an outer B-spline has no array of " +
+                           std::to_string(n + 1) + "^" + std::to_string(D) +
+                           " inner B-splines nearby (use more cells)");
 }
 
 }  // namespace
@@ -120,40 +162,7 @@ SplineBasis<D> build_basis(const BackgroundGrid<D>& grid, const std::vector<char
       continue;
     }
     const auto j = grid.spline_index(s);
-    // The closest full array: search growing shells of lower corners l.
-    bool found = false;
-    std::array<int, D> best{};
-    for (int radius = 0; !found && radius <= 2 * (n + 1) + 64; ++radius) {
-      double best_distance = std::numeric_limits<double>::infinity();
-      std::array<int, D> lo{}, span{};
-      int total = 1;
-      for (int a = 0; a < D; ++a) {
-        lo[a] = j[a] - n / 2 - radius;
-        span[a] = 2 * radius + 1;
-        total *= span[a];
-      }
-      for (int k = 0; k < total; ++k) {
-        std::array<int, D> l{};
-        int rest = k;
-        bool in_range = true;
-        double distance = 0.0;
-        for (int a = 0; a < D; ++a) {
-          l[a] = lo[a] + rest % span[a];
-          rest /= span[a];
-          in_range = in_range && l[a] >= 0 && l[a] + n < grid.splines_along(a);
-          const double d = l[a] + 0.5 * n - j[a];
-          distance += d * d;
-        }
-        if (!in_range || !block_ok[grid.spline_linear(l)] || distance >= best_distance) continue;
-        best_distance = distance;
-        best = l;
-        found = true;
-      }
-    }
-    if (!found)
-      throw std::runtime_error("the grid is too coarse for the WEB basis: an outer B-spline has no array of " +
-                               std::to_string(n + 1) + "^" + std::to_string(D) +
-                               " inner B-splines nearby (use more cells)");
+    const std::array<int, D> best = nearest_inner_array<D>(grid, block_ok, j);
     int total = 1;
     for (int a = 0; a < D; ++a) total *= n + 1;
     for (int k = 0; k < total; ++k) {
