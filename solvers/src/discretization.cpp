@@ -1,5 +1,7 @@
 #include "discretization.hpp"
 
+#include "stage_timer.hpp"
+
 #include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/memory_estimate.hpp>
@@ -18,16 +20,10 @@ namespace sage::solver {
 
 namespace {
 
-std::string short_number(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", x);
-  return text;
-}
-
 template <std::size_t D>
 std::string box_text(const std::array<double, D>& lo, const std::array<double, D>& hi) {
   std::string text = "[";
-  for (std::size_t a = 0; a < D; ++a) text += (a ? ", " : "") + short_number(lo[a]) + " .. " + short_number(hi[a]);
+  for (std::size_t a = 0; a < D; ++a) text += (a ? ", " : "") + number_text(lo[a], 6) + " .. " + number_text(hi[a], 6);
   return text + "]";
 }
 
@@ -227,7 +223,7 @@ ClassifiedGrid<D> classify_grid(DomainCells<D>& cells, const std::array<double, 
     throw std::runtime_error("the domain (/domain) is empty in its bounds " + box_text(lo, hi) +
                              ": omega < 0 on every grid cell");
   if (report.cells_inside == 0)
-    throw std::runtime_error("the grid is too coarse: no cell of width " + short_number(grid.h) +
+    throw std::runtime_error("the grid is too coarse: no cell of width " + number_text(grid.h, 6) +
                              " lies entirely inside the domain (/domain) in its bounds " + box_text(lo, hi) +
                              " (use more cells)");
   out.interior = deepest_inside_centre(grid, kinds);

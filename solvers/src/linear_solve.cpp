@@ -1,5 +1,7 @@
 #include "linear_solve.hpp"
 
+#include "stage_timer.hpp"
+
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
@@ -13,12 +15,6 @@
 namespace sage::solver {
 
 namespace {
-
-std::string number_text(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
 
 /// The system must be worth solving before any factorization touches it
 /// (Eigen's incomplete Cholesky reads past its arrays when a column has no

@@ -31,6 +31,13 @@ class StageTimer {
   std::clock_t cpu_start_ = std::clock();
 };
 
+/// x in %g style with `digits` significant digits, for messages.
+inline std::string number_text(double x, int digits = 3) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, x);
+  return text;
+}
+
 inline std::string scientific(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3e", x);
