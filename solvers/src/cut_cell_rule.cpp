@@ -87,7 +87,8 @@ int touching_sign(const Interval& v) {
   return 0;
 }
 
-CellDomain cell_domain(const BooleanFormula& restricted, const std::function<Interval(std::uint32_t)>& enclosure) {
+ClassifiedCell classified_cell(const BooleanFormula& restricted,
+                               const std::function<Interval(std::uint32_t)>& enclosure) {
   if (restricted.is_constant()) return {restricted.constant_value() ? CellKind::Inside : CellKind::Outside, restricted};
   const BooleanFormula volume =
       restricted.restricted([&](std::size_t p) { return touching_sign(enclosure(static_cast<std::uint32_t>(p))); });
@@ -105,8 +106,8 @@ class CutCellRule<D>::Impl {
 
   const QuadratureCounts& counts() const { return counts_; }
 
-  void append(PieceSource<D>& pieces, const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
-              std::vector<SurfacePoint<D>>* surface, bool resolve_base) {
+  void append(PieceSource<D>& pieces, const Box<D>& box, const ClassifiedCell& cell,
+              std::vector<VolumePoint<D>>& volume, std::vector<SurfacePoint<D>>* surface, bool resolve_base) {
     pieces_ = &pieces;
     resolve_base_ = resolve_base;
     if (inside_.size() < pieces.count()) inside_.resize(pieces.count(), 0);
@@ -116,7 +117,7 @@ class CutCellRule<D>::Impl {
     for (int a = 0; a < D; ++a) scale_ = std::max(scale_, box.hi[a] - box.lo[a]);
     if (cell.kind == CellKind::Inside) {
       tensor(box, options_.inside_points > 0 ? options_.inside_points : options_.points, nullptr);
-      // Faces of the domain on the box's faces (cell_domain()).
+      // Faces of the domain on the box's faces (classified_cell()).
       if (surface_ && !cell.formula.is_constant())
         for (const std::uint32_t piece : cell.formula.pieces()) surface_rule(box, cell.formula, piece, 0);
       return;
@@ -765,7 +766,7 @@ template <int D>
 CutCellRule<D>::CutCellRule(CutCellRule&&) noexcept = default;
 
 template <int D>
-void CutCellRule<D>::append(PieceSource<D>& pieces, const Box<D>& box, const CellDomain& cell,
+void CutCellRule<D>::append(PieceSource<D>& pieces, const Box<D>& box, const ClassifiedCell& cell,
                             std::vector<VolumePoint<D>>& volume, std::vector<SurfacePoint<D>>* surface,
                             bool resolve_base) {
   impl_->append(pieces, box, cell, volume, surface, resolve_base);

@@ -45,7 +45,8 @@ int touching_sign(const Interval& v);
 /// only touch the cell count by the sign of its interior for the volume, so
 /// a cell with a face of the domain on its boundary is Inside, but stay in
 /// the formula: its surface rule still runs for them.
-CellDomain cell_domain(const BooleanFormula& restricted, const std::function<Interval(std::uint32_t)>& enclosure);
+ClassifiedCell classified_cell(const BooleanFormula& restricted,
+                               const std::function<Interval(std::uint32_t)>& enclosure);
 
 /// One per thread.
 template <int D>
@@ -61,8 +62,8 @@ class CutCellRule {
   /// `resolve_base`, only the volume, from lines whose roots are exact but
   /// over a base not broken where their integrals have kinks (for boxes
   /// with too many pieces for the breaks, whose caller has a surface rule).
-  void append(PieceSource<D>& pieces, const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
-              std::vector<SurfacePoint<D>>* surface, bool resolve_base = true);
+  void append(PieceSource<D>& pieces, const Box<D>& box, const ClassifiedCell& cell,
+              std::vector<VolumePoint<D>>& volume, std::vector<SurfacePoint<D>>* surface, bool resolve_base = true);
   const QuadratureCounts& counts() const;
 
  private:

@@ -201,7 +201,7 @@ ClassifiedGrid<D> classify_grid(DomainCells<D>& cells, const std::array<double, 
   const double memory_limit = memory.limit_mb > 0.0 ? memory.limit_mb : available_megabytes();
   // The classification's own arrays, before it allocates them.
   const double classification_mb =
-      static_cast<double>(cell_count) * (sizeof(CellDomain) + sizeof(CellKind) + 8) / (1024.0 * 1024.0);
+      static_cast<double>(cell_count) * (sizeof(ClassifiedCell) + sizeof(CellKind) + 8) / (1024.0 * 1024.0);
   if (memory_limit > 0.0 && classification_mb > memory_limit)
     throw std::runtime_error("the grid is too large for this machine: classifying its " + std::to_string(cell_count) +
                              " cells needs about " + std::to_string(static_cast<long long>(classification_mb)) +

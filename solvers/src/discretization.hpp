@@ -63,14 +63,14 @@ class DomainCells {
 
    private:
     const DomainCells& cells_;
-    std::optional<CellQuadrature<D>> rule_;
+    std::optional<ImplicitCellQuadrature<D>> rule_;
     std::optional<MeshCellQuadrature> mesh_rule_;
   };
 
  private:
   std::shared_ptr<const TriangleSurface> surface_;
   std::optional<DomainPieces> pieces_;
-  std::vector<CellDomain> cells_;
+  std::vector<ClassifiedCell> cells_;
   std::shared_ptr<MeshDomain> mesh_;
   std::vector<CellKind> kinds_;
 };
@@ -132,7 +132,7 @@ template <int D>
 QuadratureDump quadrature_dump(const CellRules<D>& rules);
 
 /// Local B-splines and their gradients at the points of the tensor Gauss
-/// rule of an inside cell, in the order of CellQuadrature::append_rule
+/// rule of an inside cell, in the order of ImplicitCellQuadrature::append_rule
 /// (x fastest): value[p * local + k], gradient[a][p * local + k]. Inside
 /// cells all carry this rule relative to the cell, so these values serve
 /// them all.

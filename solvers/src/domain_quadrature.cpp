@@ -61,7 +61,7 @@ class PieceIntervals {
 template <int D>
 class GridClassifier {
  public:
-  GridClassifier(const DomainPieces& pieces, const BackgroundGrid<D>& grid, std::vector<CellDomain>& out)
+  GridClassifier(const DomainPieces& pieces, const BackgroundGrid<D>& grid, std::vector<ClassifiedCell>& out)
       : grid_(grid), out_(out), intervals_(pieces), sign_(pieces.piece_count(), 0) {}
 
   /// Cells lo[a] <= i[a] < hi[a].
@@ -78,7 +78,7 @@ class GridClassifier {
     for (int a = 1; a < D; ++a)
       if (hi[a] - lo[a] > hi[widest] - lo[widest]) widest = a;
     if (hi[widest] - lo[widest] == 1) {
-      out_[linear(lo)] = cell_domain(restricted, [&](std::uint32_t p) { return intervals_.over<D>(p, box); });
+      out_[linear(lo)] = classified_cell(restricted, [&](std::uint32_t p) { return intervals_.over<D>(p, box); });
       return;
     }
     const int middle = (lo[widest] + hi[widest]) / 2;
@@ -109,7 +109,7 @@ class GridClassifier {
   }
 
   const BackgroundGrid<D>& grid_;
-  std::vector<CellDomain>& out_;
+  std::vector<ClassifiedCell>& out_;
   PieceIntervals intervals_;
   std::vector<signed char> sign_;
 };
@@ -117,8 +117,8 @@ class GridClassifier {
 }  // namespace
 
 template <int D>
-std::vector<CellDomain> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid) {
-  std::vector<CellDomain> out(grid.cell_count());
+std::vector<ClassifiedCell> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid) {
+  std::vector<ClassifiedCell> out(grid.cell_count());
   // Blocks of up to 8 cells per axis, shared among the threads.
   constexpr int kBlock = 8;
   std::array<int, D> blocks{};
@@ -146,8 +146,8 @@ std::vector<CellDomain> classify_cells(const DomainPieces& pieces, const Backgro
   return out;
 }
 
-template std::vector<CellDomain> classify_cells<2>(const DomainPieces&, const BackgroundGrid<2>&);
-template std::vector<CellDomain> classify_cells<3>(const DomainPieces&, const BackgroundGrid<3>&);
+template std::vector<ClassifiedCell> classify_cells<2>(const DomainPieces&, const BackgroundGrid<2>&);
+template std::vector<ClassifiedCell> classify_cells<3>(const DomainPieces&, const BackgroundGrid<3>&);
 
 // ---------------------------------------------------------------------------
 // The pieces' tapes as the cut-cell rule reads them.
@@ -196,20 +196,20 @@ class TapePieces final : public PieceSource<D> {
 }  // namespace
 
 template <int D>
-class CellQuadrature<D>::Rule {
+class ImplicitCellQuadrature<D>::Rule {
  public:
   Rule(const DomainPieces& pieces, QuadratureOptions options)
       : formula_(pieces.formula), tapes_(pieces), intervals_(pieces), rule_(options) {}
 
-  CellDomain classify(const Box<D>& box) {
+  ClassifiedCell classify(const Box<D>& box) {
     std::array<Interval, D> x{};
     for (int a = 0; a < D; ++a) x[a] = Interval(box.lo[a], box.hi[a]);
     auto enclosure = [&](std::uint32_t p) { return intervals_.over<D>(p, x); };
     const BooleanFormula f =
         formula_.restricted([&](std::size_t p) { return sign_of(enclosure(static_cast<std::uint32_t>(p))); });
-    return cell_domain(f, enclosure);
+    return classified_cell(f, enclosure);
   }
-  void append(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
+  void append(const Box<D>& box, const ClassifiedCell& cell, std::vector<VolumePoint<D>>& volume,
               std::vector<SurfacePoint<D>>* surface) {
     rule_.append(tapes_, box, cell, volume, surface);
   }
@@ -223,32 +223,33 @@ class CellQuadrature<D>::Rule {
 };
 
 template <int D>
-CellQuadrature<D>::CellQuadrature(const DomainPieces& pieces, QuadratureOptions options)
+ImplicitCellQuadrature<D>::ImplicitCellQuadrature(const DomainPieces& pieces, QuadratureOptions options)
     : rule_(std::make_unique<Rule>(pieces, options)) {}
 
 template <int D>
-CellQuadrature<D>::~CellQuadrature() = default;
+ImplicitCellQuadrature<D>::~ImplicitCellQuadrature() = default;
 
 template <int D>
-CellQuadrature<D>::CellQuadrature(CellQuadrature&&) noexcept = default;
+ImplicitCellQuadrature<D>::ImplicitCellQuadrature(ImplicitCellQuadrature&&) noexcept = default;
 
 template <int D>
-const QuadratureCounts& CellQuadrature<D>::counts() const {
+const QuadratureCounts& ImplicitCellQuadrature<D>::counts() const {
   return rule_->counts();
 }
 
 template <int D>
-CellDomain CellQuadrature<D>::classify(const Box<D>& box) {
+ClassifiedCell ImplicitCellQuadrature<D>::classify(const Box<D>& box) {
   return rule_->classify(box);
 }
 
 template <int D>
-void CellQuadrature<D>::append_rule(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
-                                    std::vector<SurfacePoint<D>>* surface) {
+void ImplicitCellQuadrature<D>::append_rule(const Box<D>& box, const ClassifiedCell& cell,
+                                            std::vector<VolumePoint<D>>& volume,
+                                            std::vector<SurfacePoint<D>>* surface) {
   rule_->append(box, cell, volume, surface);
 }
 
-template class CellQuadrature<2>;
-template class CellQuadrature<3>;
+template class ImplicitCellQuadrature<2>;
+template class ImplicitCellQuadrature<3>;
 
 }  // namespace sage::solver

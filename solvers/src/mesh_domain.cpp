@@ -449,7 +449,7 @@ class MeshCellQuadrature::Impl {
     auto enclosure = [&](std::uint32_t p) { return pieces_.enclosure(p, x)[0]; };
     const BooleanFormula restricted =
         formula.restricted([&](std::size_t p) { return sign_of(enclosure(static_cast<std::uint32_t>(p))); });
-    rule_.append(pieces_, box, cell_domain(restricted, enclosure), volume, surface);
+    rule_.append(pieces_, box, classified_cell(restricted, enclosure), volume, surface);
   }
 
   /// Whether two of the planes meet at an edge of the solid (a feature

@@ -27,7 +27,7 @@ struct Integrals {
 template <int D>
 Integrals integrate(const Expr& omega, std::array<double, D> lo, std::array<double, D> hi, double h, int points) {
   const DomainPieces tapes(omega, D);
-  CellQuadrature<D> rule(tapes, {points, 4});
+  ImplicitCellQuadrature<D> rule(tapes, {points, 4});
   const auto grid = BackgroundGrid<D>::covering(lo, hi, h, 1);
   Integrals sum;
   std::vector<VolumePoint<D>> volume;
@@ -41,7 +41,7 @@ Integrals integrate(const Expr& omega, std::array<double, D> lo, std::array<doub
     }
     volume.clear();
     surface.clear();
-    const CellDomain cell = rule.classify(box);
+    const ClassifiedCell cell = rule.classify(box);
     rule.append_rule(box, cell, volume, &surface);
     if (cell.kind == CellKind::Cut) {
       ++sum.cut_cells;

@@ -46,7 +46,7 @@
 // the surface point, so the neighbour does not take it twice.
 //
 // Ownership: DomainPieces compiles the pieces once and is shared
-// (read-only) by the CellQuadrature objects, one per thread.
+// (read-only) by the ImplicitCellQuadrature objects, one per thread.
 
 #include <sage/expression/boolean_form.hpp>
 #include <sage/expression/expression.hpp>
@@ -104,7 +104,7 @@ struct DomainPieces {
 /// What a box holds of the domain: its kind and the formula restricted to
 /// it, which reads the pieces whose zero sets may meet the box (for an
 /// Inside box, those that only touch its faces; none otherwise).
-struct CellDomain {
+struct ClassifiedCell {
   CellKind kind = CellKind::Outside;
   BooleanFormula formula = BooleanFormula::constant(false);
 };
@@ -114,9 +114,9 @@ struct CellDomain {
 /// settle (a polygon of thousands of edges costs a few per cell). Runs on
 /// all cores.
 template <int D>
-std::vector<CellDomain> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid);
+std::vector<ClassifiedCell> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid);
 
-/// What the rules fell back on, summed over the calls of a CellQuadrature.
+/// What the rules fell back on, summed over the calls of a ImplicitCellQuadrature.
 struct QuadratureCounts {
   std::size_t masked_boxes = 0;        // sub-boxes integrated by sign-masked Gauss points
   std::size_t masked_points = 0;       // volume points those produced
@@ -125,17 +125,17 @@ struct QuadratureCounts {
 };
 
 template <int D>
-class CellQuadrature {
+class ImplicitCellQuadrature {
  public:
-  CellQuadrature(const DomainPieces& pieces, QuadratureOptions options);
-  ~CellQuadrature();
-  CellQuadrature(CellQuadrature&&) noexcept;
+  ImplicitCellQuadrature(const DomainPieces& pieces, QuadratureOptions options);
+  ~ImplicitCellQuadrature();
+  ImplicitCellQuadrature(ImplicitCellQuadrature&&) noexcept;
 
   /// The kind of `box` and the formula restricted to it.
-  CellDomain classify(const Box<D>& box);
+  ClassifiedCell classify(const Box<D>& box);
   /// Appends the rule of the part of `box` inside the domain to `volume`,
   /// and of the boundary in the box to `surface` when it is not null.
-  void append_rule(const Box<D>& box, const CellDomain& cell, std::vector<VolumePoint<D>>& volume,
+  void append_rule(const Box<D>& box, const ClassifiedCell& cell, std::vector<VolumePoint<D>>& volume,
                    std::vector<SurfacePoint<D>>* surface);
 
   const QuadratureCounts& counts() const;

@@ -12,7 +12,7 @@
 // c2 = k W w^2. Degree 3 with 4^3 points: about 75 thousand multiply-adds
 // instead of 400 thousand for the rank update of the 64 x 192 gradients.
 //
-// Points are numbered x fastest (the order of CellQuadrature's tensor
+// Points are numbered x fastest (the order of ImplicitCellQuadrature's tensor
 // rule), local splines too (k = j0 + (n+1) j1 + (n+1)^2 j2).
 
 #include <Eigen/Core>
