@@ -1,0 +1,51 @@
+#include <sage/sampling/sampling_plan.hpp>
+#include <sage/tape/far_faces.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sage {
+
+namespace {
+
+std::string describe(const SamplingPlan& plan) {
+  std::ostringstream text;
+  switch (plan.evaluation) {
+    case SamplingPlan::Evaluation::FarField:
+      text << "far-field approximation: patches within " << plan.relative_tolerance << " of the grid box's diagonal ("
+           << plan.approximation.tolerance << ") each"
+           << (plan.by_default ? " (the default for 2D R-function fields)" : "");
+      break;
+    case SamplingPlan::Evaluation::FarFaces:
+      text << "far mesh faces in single precision (clusters farther from a batch of points than their size), "
+           << "checked against exact evaluation at " << plan.approximation.far_faces_check_points
+           << " grid points: beyond " << plan.approximation.far_faces_limit
+           << " of the grid box's diagonal, sampled again exactly";
+      break;
+    case SamplingPlan::Evaluation::Exact:
+      text << "exact evaluation" << (plan.by_default ? " (far-field patches pay only for 2D R-function fields)" : "");
+      break;
+  }
+  return text.str();
+}
+
+}  // namespace
+
+SamplingPlan plan_sampling(const Tape& tape, const Grid& grid, int order, std::optional<double> tolerance) {
+  if (tolerance && !(*tolerance >= 0 && std::isfinite(*tolerance)))
+    throw std::invalid_argument("the far-field tolerance must be finite and at least 0 (0: exact)");
+  SamplingPlan plan;
+  plan.by_default = !tolerance;
+  plan.relative_tolerance = tolerance.value_or(far_field_pays(tape) ? kDefaultFarFieldTolerance : 0.0);
+  plan.approximation.tolerance = plan.relative_tolerance * grid.diagonal();
+  // Far faces run for values and gradients (order 0 and 1) only.
+  plan.approximation.far_faces = !tolerance && order <= 1 && far_faces_pay(tape);
+  plan.evaluation = plan.approximation.tolerance > 0 ? SamplingPlan::Evaluation::FarField
+                    : plan.approximation.far_faces   ? SamplingPlan::Evaluation::FarFaces
+                                                     : SamplingPlan::Evaluation::Exact;
+  plan.description = describe(plan);
+  return plan;
+}
+
+}  // namespace sage
