@@ -61,23 +61,22 @@ int run_field(const std::vector<std::string>& args) {
     std::cout << "), omega in [" << r.omega_min << ", " << r.omega_max << "], " << r.instructions
               << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s";
     std::cout << "\n";
-    if (r.absolute_tolerance > 0)
-      std::cout << "far-field approximation: patches within " << r.relative_tolerance << " of the grid box's diagonal ("
-                << r.absolute_tolerance << ") each"
-                << (r.default_evaluation ? " (the default for 2D R-function fields)" : "")
-                << "; --exact for exact evaluation\n";
-    else if (r.far_faces)
+    // The plan as planned, but far faces as they went: measured, or
+    // rejected and sampled again exactly.
+    const Approximation& a = r.plan.approximation;
+    if (r.far_faces)
       std::cout << "far mesh faces in single precision (clusters farther from a batch of points than their size): "
                 << "deviation from exact evaluation at most " << r.far_faces_deviation
-                << " of the grid box's diagonal at " << r.far_faces_check_points
+                << " of the grid box's diagonal at " << a.far_faces_check_points
                 << " grid points; --exact for exact evaluation\n";
     else if (r.far_faces_rejected)
       std::cout << "exact evaluation: far mesh faces in single precision deviated by " << r.far_faces_deviation
-                << " of the grid box's diagonal (more than " << r.far_faces_limit
+                << " of the grid box's diagonal (more than " << a.far_faces_limit
                 << "), so the grid was sampled again\n";
     else
-      std::cout << "exact evaluation"
-                << (r.default_evaluation ? " (far-field patches pay only for 2D R-function fields)" : "") << "\n";
+      std::cout << r.plan.description
+                << (r.plan.evaluation == SamplingPlan::Evaluation::Exact ? "" : "; --exact for exact evaluation")
+                << "\n";
   }
   return 0;
 }

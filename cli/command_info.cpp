@@ -3,11 +3,9 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 
-#include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/evaluator.hpp>
-#include <sage/tape/far_faces.hpp>
 #include <sage/tape/tape.hpp>
-#include <sage/tape/tape_specialization.hpp>
 
 #include <boost/program_options.hpp>
 
@@ -54,16 +52,9 @@ int run_info(const std::vector<std::string>& args) {
     eval.evaluate_with(box);
     std::cout << "omega range: within [" << eval.result().lo << ", " << eval.result().hi
               << "] over the bounds (interval arithmetic)\n";
-    const double diagonal = grid_for(model, std::nullopt, std::nullopt).diagonal();
-    if (far_field_pays(tape))
-      std::cout << "sampling:    sage field by default: far parts of the field become patches within "
-                << kDefaultFarFieldTolerance << " of the bounds' diagonal (" << kDefaultFarFieldTolerance * diagonal
-                << "); --exact for exact evaluation\n";
-    else if (far_faces_pay(tape))
-      std::cout << "sampling:    sage field by default: mesh faces far from each batch of points in single "
-                   "precision, the deviation measured and printed; --exact for exact evaluation\n";
-    else
-      std::cout << "sampling:    sage field by default: exact (far-field patches pay only for 2D R-function fields)\n";
+    const SamplingPlan plan = plan_sampling(tape, grid_for(model, std::nullopt, std::nullopt), FieldJob{}.order);
+    std::cout << "sampling:    sage field by default: " << plan.description
+              << (plan.evaluation == SamplingPlan::Evaluation::Exact ? "" : "; --exact for exact evaluation") << "\n";
   } else {
     std::cout << "bounds:      none in the model (sage field needs --bounds)\n";
   }

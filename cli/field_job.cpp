@@ -6,7 +6,6 @@
 #include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 #include <sage/sampling/field_samples.hpp>
-#include <sage/tape/far_faces.hpp>
 #include <sage/tape/tape.hpp>
 
 #include <algorithm>
@@ -120,21 +119,14 @@ FieldReport run_field_job(const FieldJob& job) {
   auto start = std::chrono::steady_clock::now();
   const Tape tape(model.field, model.dimension);
   report.instructions = tape.code().size();
-  Approximation approximation;
-  report.default_evaluation = !job.tolerance;
-  report.relative_tolerance = job.tolerance.value_or(far_field_pays(tape) ? kDefaultFarFieldTolerance : 0.0);
-  approximation.tolerance = report.absolute_tolerance = report.relative_tolerance * report.grid.diagonal();
-  // Far faces run for values and gradients (order 0 and 1) only.
-  approximation.far_faces = !job.tolerance && job.order <= 1 && far_faces_pay(tape);
-  const FieldSamples samples =
-      sample_field(tape, report.grid, job.order,
-                   job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{}, &approximation);
+  report.plan = plan_sampling(tape, report.grid, job.order, job.tolerance);
+  const FieldSamples samples = sample_field(
+      tape, report.grid, job.order, job.show_progress ? terminal_progress("sampling " + job.model_path) : Progress{},
+      &report.plan.approximation);
   report.seconds_sampling = seconds_since(start);
   report.far_faces = samples.far_faces;
   report.far_faces_rejected = samples.far_faces_rejected;
   report.far_faces_deviation = samples.far_faces_deviation;
-  report.far_faces_check_points = approximation.far_faces_check_points;
-  report.far_faces_limit = approximation.far_faces_limit;
   const auto [lo, hi] = std::minmax_element(samples.omega.begin(), samples.omega.end());
   report.omega_min = *lo;
   report.omega_max = *hi;

@@ -5,6 +5,7 @@
 #include <sage/geometry/model.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/grid.hpp>
+#include <sage/sampling/sampling_plan.hpp>
 
 #include <boost/program_options.hpp>
 
@@ -22,8 +23,7 @@ struct FieldJob {
   geometry::LoadOptions load;            // GIS and mesh options
   int order = 1;
   // Far-field approximation: allowed deviation relative to the grid box's
-  // diagonal (0 = exact sampling); unset: kDefaultFarFieldTolerance where
-  // it pays (far_field_pays), else exact.
+  // diagonal (0 = exact sampling); unset: sage's default (plan_sampling).
   std::optional<double> tolerance;
   bool show_progress = true;
 };
@@ -33,16 +33,12 @@ struct FieldReport {
   std::size_t instructions = 0;
   double omega_min = 0, omega_max = 0;
   double seconds_sampling = 0, seconds_writing = 0;
-  double relative_tolerance = 0;   // of the grid box's diagonal, 0 when exact
-  double absolute_tolerance = 0;   // in field units, 0 when exact
-  bool default_evaluation = true;  // the tolerance was chosen by sage, not given
+  SamplingPlan plan;  // how the grid was sampled (plan_sampling)
   // Far mesh faces in single precision: used, or tried and rejected (then
   // exact), and the largest deviation measured (relative to the diagonal).
   bool far_faces = false;
   bool far_faces_rejected = false;
   double far_faces_deviation = 0;
-  std::size_t far_faces_check_points = 0;
-  double far_faces_limit = 0;
 };
 
 /// Reads any geometry source with the job's options (throws ModelError).
