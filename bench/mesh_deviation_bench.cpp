@@ -14,9 +14,8 @@
 #include <sage/geometry/mesh_model.hpp>
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/grid.hpp>
+#include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/evaluator.hpp>
-#include <sage/tape/far_faces.hpp>
-#include <sage/tape/far_field.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -43,10 +42,9 @@ int main(int argc, char** argv) {
     const sage::Tape tape(model.field, 3);
     const sage::Grid grid = sage::bench::mesh_grid(model, n);
 
-    sage::Approximation approximation;  // sage field's default for meshes
-    approximation.far_faces = sage::far_faces_pay(tape);
+    const sage::SamplingPlan plan = sage::plan_sampling(tape, grid, 1);  // sage field's default
     const auto start = std::chrono::steady_clock::now();
-    const sage::FieldSamples samples = sage::sample_field(tape, grid, 1, {}, &approximation);
+    const sage::FieldSamples samples = sage::sample_field(tape, grid, 1, {}, &plan.approximation);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     std::mt19937_64 rng(4242);

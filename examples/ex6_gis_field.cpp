@@ -19,6 +19,7 @@
 #include <sage/geometry/polygon_validation.hpp>
 #include <sage/output/vtk_writer.hpp>
 #include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/evaluator.hpp>
 
 #include <algorithm>
@@ -63,15 +64,18 @@ int main(int argc, char** argv) {
     std::printf("at the edges' midpoints: |omega| <= %.1e m, ||grad omega| - 1| <= %.1e\n", worst_value,
                 worst_gradient);
 
-    // 4. Sample on a 300x300 grid around the polygons, far field within
-    //    1e-10 of the diagonal, and compare with exact evaluation.
+    // 4. Sample on a 300x300 grid around the polygons as `sage field`
+    //    does (plan_sampling: for a 2D R0 field, far-field patches within
+    //    1e-10 of the grid box's diagonal), and compare with exact
+    //    evaluation.
     Grid grid;
     grid.dimension = 2;
     grid.lo = {lo[0] - 0.05 * diagonal, lo[1] - 0.05 * diagonal, 0};
     grid.hi = {hi[0] + 0.05 * diagonal, hi[1] + 0.05 * diagonal, 0};
     grid.points = {300, 300, 1};
-    Approximation far_field;
-    far_field.tolerance = kDefaultFarFieldTolerance * grid.diagonal();
+    const SamplingPlan plan = plan_sampling(tape, grid, 1);
+    const Approximation& far_field = plan.approximation;
+    std::printf("sampling: %s\n", plan.description.c_str());
     const FieldSamples samples = sample_field(tape, grid, 1, {}, &far_field);
     double worst_sample = 0;
     std::size_t wrong_signs = 0;
