@@ -25,8 +25,7 @@ using namespace sage::solver;
 template <int D>
 void elastic_table(const char* title, const ElasticityProblem& problem, int degree, const std::vector<int>& cells,
                    bool concentration = false) {
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double longest = problem.domain.longest_side();
   std::printf("\n%s, degree %d, WEB basis, Nitsche\n", title, degree);
   std::printf("%6s %9s %8s %8s %8s %8s %8s %8s %8s %6s %10s %10s %s\n", "cells", "unknowns", "classify", "quadr.",
               "assembly", "solve", "cpu s", "wall s", "peak MB", "iter.", "L2 rel.", "energy",

@@ -44,12 +44,12 @@ std::string shared(const std::string& name) { return sage::bench::shared_data(na
 
 PoissonProblem zero_dirichlet(const geometry::Model& model) {
   PoissonProblem p;
-  p.dimension = model.dimension;
-  p.domain = model.field;
-  p.boundary_mesh = model.surface;
+  p.domain.dimension = model.dimension;
+  p.domain.field = model.field;
+  p.domain.boundary_mesh = model.surface;
   for (int a = 0; a < 3; ++a) {
-    p.min[a] = model.bounds->min[a];
-    p.max[a] = model.bounds->max[a];
+    p.domain.min[a] = model.bounds->min[a];
+    p.domain.max[a] = model.bounds->max[a];
   }
   p.source = 1.0;
   return p;
@@ -73,8 +73,7 @@ double integral_of_u(const PoissonSolution<D>& solution) {
 template <int D>
 void refinement(const std::string& title, const geometry::Model& model, const std::vector<int>& cells_across) {
   const PoissonProblem problem = zero_dirichlet(model);
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double longest = problem.domain.longest_side();
   std::printf("\n%s, degree 2, u = 0 on the boundary, f = 1\n", title.c_str());
   std::printf("%6s %9s %7s %9s %8s %8s %8s %8s %8s %8s %8s %13s %10s %7s\n", "cells", "unknowns", "cut", "points",
               "classify", "quadr.", "assembly", "solve", "cpu s", "wall s", "peak MB", "J", "J - prev.", "ratio");

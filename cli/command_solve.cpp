@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <variant>
 
 namespace po = boost::program_options;
 
@@ -31,8 +32,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 
 template <int D>
-void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
-  const solver::PoissonProblem& problem = file.problem;
+void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& problem) {
   solver::PoissonSolution<D> solution;
   try {
     solution = solver::solve_poisson<D>(problem, command.options);
@@ -42,7 +42,7 @@ void solve_and_write(const SolveCommand& command, const ProblemFile& file) {
   const solver::SolveReport& r = solution.report;
 
   const auto start = std::chrono::steady_clock::now();
-  const WrittenSolution written = write_solution<D>(command, problem, solution, problem.exact);
+  const WrittenSolution written = write_solution<D>(command, problem.domain, solution, problem.exact);
   write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -178,25 +178,22 @@ int run_solve(const std::vector<std::string>& args) {
   output::check_writable(command.output_path);
   if (!command.quadrature_path.empty()) output::check_writable(command.quadrature_path);
   const ProblemFile file = problems::read_problem_file(command.problem_path);
-  const solver::PoissonProblem& problem = file.problem;
+  const solver::ProblemDomain& domain = file.domain;
   command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));
   command.options.estimate_condition = vm.count("condition") > 0;
   if (command.h) {
     command.options.cell_width = *command.h;
   } else {
-    double longest = 0.0;
-    for (int a = 0; a < problem.dimension; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
-    command.options.cell_width = longest / command.cells.value_or(problem.dimension == 2 ? 64 : 20);
+    command.options.cell_width = domain.longest_side() / command.cells.value_or(domain.dimension == 2 ? 64 : 20);
   }
-  if (file.elasticity && problem.dimension == 2) {
-    solve_elasticity_and_write<2>(command, file);
-  } else if (file.elasticity) {
-    solve_elasticity_and_write<3>(command, file);
-  } else if (problem.dimension == 2) {
-    solve_and_write<2>(command, file);
-  } else {
-    solve_and_write<3>(command, file);
-  }
+  std::visit(
+      [&](const auto& problem) {
+        if (domain.dimension == 2)
+          solve_and_write<2>(command, problem);
+        else
+          solve_and_write<3>(command, problem);
+      },
+      file.physics);
   return 0;
 }
 

@@ -14,8 +14,7 @@
 namespace sage::cli {
 
 template <int D>
-void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& file) {
-  const solver::ElasticityProblem& problem = *file.elasticity;
+void solve_and_write(const SolveCommand& command, const solver::ElasticityProblem& problem) {
   solver::ElasticitySolution<D> solution;
   try {
     solution = solver::solve_elasticity<D>(problem, command.options);
@@ -26,7 +25,7 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
   const solver::ElasticityResults& results = solution.results;
 
   const auto start = std::chrono::steady_clock::now();
-  const WrittenSolution written = write_solution<D>(command, file.problem, solution, problem.exact);
+  const WrittenSolution written = write_solution<D>(command, problem.domain, solution, problem.exact);
   write_quadrature(command, solution.quadrature);
   const double output_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -58,7 +57,7 @@ void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& 
   print_written(command.output_path, written);
 }
 
-template void solve_elasticity_and_write<2>(const SolveCommand&, const ProblemFile&);
-template void solve_elasticity_and_write<3>(const SolveCommand&, const ProblemFile&);
+template void solve_and_write<2>(const SolveCommand&, const solver::ElasticityProblem&);
+template void solve_and_write<3>(const SolveCommand&, const solver::ElasticityProblem&);
 
 }  // namespace sage::cli

@@ -10,24 +10,24 @@
 
 namespace sage::cli {
 
-Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h) {
+Grid output_grid(const SolveCommand& command, const solver::ProblemDomain& domain, double h) {
   std::optional<std::array<int, 3>> points;
   if (!command.grid.empty()) {
     try {
-      points = Grid::parse_resolution(command.grid, problem.dimension);
+      points = Grid::parse_resolution(command.grid, domain.dimension);
     } catch (const std::invalid_argument& e) {
       throw UsageError{std::string("--grid: ") + e.what()};
     }
   }
-  return solver::solution_grid(problem.dimension, problem.min, problem.max, h, points);
+  return solver::solution_grid(domain.dimension, domain.min, domain.max, h, points);
 }
 
 namespace {
 
 template <int D, class Solution, class Exact>
-WrittenSolution write_points(const SolveCommand& command, const solver::PoissonProblem& problem,
-                             const Solution& solution, const Exact& exact) {
-  const Grid grid = output_grid(command, problem, command.options.cell_width);
+WrittenSolution write_points(const SolveCommand& command, const solver::ProblemDomain& domain, const Solution& solution,
+                             const Exact& exact) {
+  const Grid grid = output_grid(command, domain, command.options.cell_width);
   const output::ClippedGrid part(grid,
                                  solver::omega_on_grid<D>(solution.domain, solution.mesh, solution.basis.grid.h, grid));
   part.write(command.output_path, solver::sample_solution(solution, exact, part.points()));
@@ -37,26 +37,26 @@ WrittenSolution write_points(const SolveCommand& command, const solver::PoissonP
 }  // namespace
 
 template <int D>
-WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+WrittenSolution write_solution(const SolveCommand& command, const solver::ProblemDomain& domain,
                                const solver::PoissonSolution<D>& solution, const std::optional<Expr>& exact) {
-  return write_points<D>(command, problem, solution, exact);
+  return write_points<D>(command, domain, solution, exact);
 }
 
 template <int D>
-WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+WrittenSolution write_solution(const SolveCommand& command, const solver::ProblemDomain& domain,
                                const solver::ElasticitySolution<D>& solution,
                                const std::optional<std::array<Expr, 3>>& exact) {
-  return write_points<D>(command, problem, solution, exact);
+  return write_points<D>(command, domain, solution, exact);
 }
 
-template WrittenSolution write_solution<2>(const SolveCommand&, const solver::PoissonProblem&,
+template WrittenSolution write_solution<2>(const SolveCommand&, const solver::ProblemDomain&,
                                            const solver::PoissonSolution<2>&, const std::optional<Expr>&);
-template WrittenSolution write_solution<3>(const SolveCommand&, const solver::PoissonProblem&,
+template WrittenSolution write_solution<3>(const SolveCommand&, const solver::ProblemDomain&,
                                            const solver::PoissonSolution<3>&, const std::optional<Expr>&);
-template WrittenSolution write_solution<2>(const SolveCommand&, const solver::PoissonProblem&,
+template WrittenSolution write_solution<2>(const SolveCommand&, const solver::ProblemDomain&,
                                            const solver::ElasticitySolution<2>&,
                                            const std::optional<std::array<Expr, 3>>&);
-template WrittenSolution write_solution<3>(const SolveCommand&, const solver::PoissonProblem&,
+template WrittenSolution write_solution<3>(const SolveCommand&, const solver::ProblemDomain&,
                                            const solver::ElasticitySolution<3>&,
                                            const std::optional<std::array<Expr, 3>>&);
 

@@ -31,7 +31,7 @@ struct SolveCommand {
 };
 
 /// The output grid: --grid, else solution_grid's default, over the problem's box.
-Grid output_grid(const SolveCommand& command, const solver::PoissonProblem& problem, double h);
+Grid output_grid(const SolveCommand& command, const solver::ProblemDomain& domain, double h);
 
 /// What write_solution wrote, for the summary's last line.
 struct WrittenSolution {
@@ -42,10 +42,10 @@ struct WrittenSolution {
 /// the solution at the clip's points (solver/solution_samples.hpp) and
 /// writes them, with omega, to the command's output.
 template <int D>
-WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+WrittenSolution write_solution(const SolveCommand& command, const solver::ProblemDomain& domain,
                                const solver::PoissonSolution<D>& solution, const std::optional<Expr>& exact);
 template <int D>
-WrittenSolution write_solution(const SolveCommand& command, const solver::PoissonProblem& problem,
+WrittenSolution write_solution(const SolveCommand& command, const solver::ProblemDomain& domain,
                                const solver::ElasticitySolution<D>& solution,
                                const std::optional<std::array<Expr, 3>>& exact);
 
@@ -60,8 +60,9 @@ void write_quadrature(const SolveCommand& command, const solver::QuadratureDump&
 /// and the results are theirs.)
 void print_solve_report(const solver::SolveReport& report, const std::shared_ptr<const Tape>& domain, bool mesh);
 
-/// Solves the elasticity problem of `file` and writes it (solve_elasticity.cpp).
+/// Solves the elasticity problem and writes it (solve_elasticity.cpp; the
+/// Poisson overload is command_solve.cpp's).
 template <int D>
-void solve_elasticity_and_write(const SolveCommand& command, const ProblemFile& file);
+void solve_and_write(const SolveCommand& command, const solver::ElasticityProblem& problem);
 
 }  // namespace sage::cli

@@ -31,10 +31,10 @@ int main() {
     //    circle), its box, f = -laplace(u) by symbolic differentiation, and
     //    Dirichlet data g~ that equals u on the circle only.
     solver::PoissonProblem problem;
-    problem.dimension = 2;
-    problem.domain = ball({0, 0, 0}, 1.0, 2);
-    problem.min = {-1, -1, 0};
-    problem.max = {1, 1, 0};
+    problem.domain.dimension = 2;
+    problem.domain.field = ball({0, 0, 0}, 1.0, 2);
+    problem.domain.min = {-1, -1, 0};
+    problem.domain.max = {1, 1, 0};
     problem.source = solver::manufactured_source(exact, 1.0, 2);
     problem.dirichlet_extension = solver::unit_sphere_extension(u, 2);
     problem.exact = exact;

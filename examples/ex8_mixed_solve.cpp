@@ -36,10 +36,10 @@ int main() {
     // 1. The part: a box AND NOT a cylinder, as one R0 field (>= 0 inside).
     const Expr hole = cylinder({0, 0, 0}, {0, 0, 1}, 0.4);  // >= 0 inside the cylinder
     solver::PoissonProblem problem;
-    problem.dimension = 3;
-    problem.domain = r_and(box({-1, -1, 0}, {1, 1, 1}, 3, r0), -hole, r0);
-    problem.min = {-1, -1, 0};
-    problem.max = {1, 1, 1};
+    problem.domain.dimension = 3;
+    problem.domain.field = r_and(box({-1, -1, 0}, {1, 1, 1}, 3, r0), -hole, r0);
+    problem.domain.min = {-1, -1, 0};
+    problem.domain.max = {1, 1, 1};
 
     // 2. The solution we pretend not to know, and f = -laplace(u).
     const Expr u = exp(0.5 * x) * cos(y) * (1.0 + z) + x * y;

@@ -34,10 +34,10 @@ int main() {
     const Expr left = halfspace({0, 0, 0}, {-1, 0, 0}, 2), bottom = halfspace({0, 0, 0}, {0, -1, 0}, 2);
     const Expr right = halfspace({L, 0, 0}, {1, 0, 0}, 2), top = halfspace({0, L, 0}, {0, 1, 0}, 2);
     solver::ElasticityProblem problem;
-    problem.dimension = 2;
-    problem.domain = r_and(r_and(r_and(r_and(left, bottom, r0), right, r0), top, r0), -ball({0, 0, 0}, a, 2), r0);
-    problem.min = {0, 0, 0};
-    problem.max = {L, L, 0};
+    problem.domain.dimension = 2;
+    problem.domain.field = r_and(r_and(r_and(r_and(left, bottom, r0), right, r0), top, r0), -ball({0, 0, 0}, a, 2), r0);
+    problem.domain.min = {0, 0, 0};
+    problem.domain.max = {L, L, 0};
     problem.material = {200e3, 0.3, solver::PlaneMode::Stress};  // steel, MPa
 
     // 2. Kirsch's stress field, in polar form, turned Cartesian: the

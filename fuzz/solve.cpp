@@ -13,6 +13,7 @@
 #include <sage/solver/poisson.hpp>
 
 #include <algorithm>
+#include <variant>
 
 namespace sage::fuzz {
 
@@ -26,10 +27,10 @@ std::uint32_t fnv1a(const std::uint8_t* data, std::size_t size) {
 
 template <int D>
 void solve_in(const problems::ProblemFile& file, const solver::SolverOptions& options) {
-  if (file.elasticity)
-    (void)solver::solve_elasticity<D>(*file.elasticity, options);
+  if (const auto* elasticity = std::get_if<solver::ElasticityProblem>(&file.physics))
+    (void)solver::solve_elasticity<D>(*elasticity, options);
   else
-    (void)solver::solve_poisson<D>(file.problem, options);
+    (void)solver::solve_poisson<D>(std::get<solver::PoissonProblem>(file.physics), options);
 }
 
 }  // namespace
@@ -45,7 +46,7 @@ void solve(const std::uint8_t* data, std::size_t size) {
       solver::LinearSolverKind::ConjugateGradient, solver::LinearSolverKind::JacobiConjugateGradient};
   try {
     const problems::ProblemFile file = problems::read_problem_file(path);
-    const solver::PoissonProblem& p = file.problem;
+    const solver::ProblemDomain& domain = file.domain;
     solver::SolverOptions options;
     // The Robin structure needs degree 2.
     options.robin = file.robin.value_or(solver::RobinRoute::Weak);
@@ -54,11 +55,10 @@ void solve(const std::uint8_t* data, std::size_t size) {
     options.basis = hash & 8 ? solver::BasisKind::Weighted : solver::BasisKind::Web;
     options.estimate_condition = false;
     options.memory_limit_mb = 256;
-    const int cells = p.dimension == 2 ? 4 + static_cast<int>((hash >> 4) % 13) : 3 + static_cast<int>((hash >> 4) % 3);
-    double longest = 0.0;
-    for (int a = 0; a < p.dimension; ++a) longest = std::max(longest, p.max[a] - p.min[a]);
-    options.cell_width = longest / cells;
-    if (p.dimension == 2)
+    const int cells =
+        domain.dimension == 2 ? 4 + static_cast<int>((hash >> 4) % 13) : 3 + static_cast<int>((hash >> 4) % 3);
+    options.cell_width = domain.longest_side() / cells;
+    if (domain.dimension == 2)
       solve_in<2>(file, options);
     else
       solve_in<3>(file, options);

@@ -40,19 +40,27 @@ class Reader : geometry::JsonFields<ProblemError> {
     }
     if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
     read_domain(top["domain"]);
-    solver::PoissonProblem& p = out_.problem;
-    p.dimension = out_.model.dimension;
-    p.domain = out_.model.field;
-    p.boundary_mesh = out_.model.surface;
+    out_.domain.dimension = out_.model.dimension;
+    out_.domain.field = out_.model.field;
+    out_.domain.boundary_mesh = out_.model.surface;
     read_bounds(top);
-    if (physics == "elasticity") return read_elasticity(top);
+    if (physics == "elasticity")
+      out_.physics = read_elasticity(top);
+    else
+      out_.physics = read_poisson(top);
+  }
+
+ private:
+  solver::PoissonProblem read_poisson(const Json& top) {
+    solver::PoissonProblem p;
+    p.domain = out_.domain;
     if (top.contains("conductivity")) p.conductivity = formula(top["conductivity"], "/conductivity");
     if (top.contains("source")) p.source = formula(top["source"], "/source");
     if (top.contains("exact")) {
       p.exact = formula(top["exact"], "/exact");
       out_.exact_formula = top["exact"].is_string() ? top["exact"].get<std::string>() : top["exact"].dump();
     }
-    if (top.contains("boundary")) read_boundary(top["boundary"]);
+    if (top.contains("boundary")) read_boundary(top["boundary"], p);
     if (top.contains("robin")) {
       if (!top["robin"].is_string()) fail("/robin", "expected \"weak\" or \"structure\"");
       try {
@@ -61,9 +69,9 @@ class Reader : geometry::JsonFields<ProblemError> {
         fail("/robin", e.what());
       }
     }
+    return p;
   }
 
- private:
   Expr formula(const Json& value, const std::string& pointer) const {
     if (value.is_number()) return Expr(number(value, pointer));
     if (!value.is_string()) fail(pointer, "expected a formula (string) or a number");
@@ -89,7 +97,7 @@ class Reader : geometry::JsonFields<ProblemError> {
   }
 
   void read_bounds(const Json& top) {
-    solver::PoissonProblem& p = out_.problem;
+    solver::ProblemDomain& p = out_.domain;
     const int d = p.dimension;
     if (top.contains("bounds")) {
       const Json& b = top["bounds"];
@@ -122,14 +130,9 @@ class Reader : geometry::JsonFields<ProblemError> {
     return v;
   }
 
-  void read_elasticity(const Json& top) {
+  solver::ElasticityProblem read_elasticity(const Json& top) {
     solver::ElasticityProblem e;
-    const solver::PoissonProblem& p = out_.problem;
-    e.dimension = p.dimension;
-    e.domain = p.domain;
-    e.boundary_mesh = p.boundary_mesh;
-    e.min = p.min;
-    e.max = p.max;
+    e.domain = out_.domain;
     e.material.young = number_at(top, "E", "");
     if (!(e.material.young >= solver::kSmallestModulus && e.material.young <= solver::kLargestDatum))
       fail("/E",
@@ -138,7 +141,7 @@ class Reader : geometry::JsonFields<ProblemError> {
     if (!(e.material.poisson > -1.0 && e.material.poisson < 0.5))
       fail("/nu", "Poisson's ratio nu must lie in (-1, 0.5), not " + top["nu"].dump());
     if (top.contains("plane")) {
-      if (e.dimension != 2) fail("/plane", "\"plane\" (stress or strain) applies to 2D problems only");
+      if (e.domain.dimension != 2) fail("/plane", "\"plane\" (stress or strain) applies to 2D problems only");
       if (!top["plane"].is_string()) fail("/plane", "expected \"stress\" or \"strain\"");
       try {
         e.material.plane = solver::parse_plane_mode(top["plane"].get<std::string>());
@@ -166,7 +169,7 @@ class Reader : geometry::JsonFields<ProblemError> {
         e.parts.push_back(part);
       }
     }
-    out_.elasticity = e;
+    return e;
   }
 
   solver::ElasticPart read_elastic_part(const Json& c, const std::string& pointer, const std::string& name) const {
@@ -244,9 +247,8 @@ class Reader : geometry::JsonFields<ProblemError> {
     return part;
   }
 
-  void read_boundary(const Json& boundary) {
+  void read_boundary(const Json& boundary, solver::PoissonProblem& p) const {
     if (!boundary.is_object()) fail("/boundary", "expected an object mapping part names to conditions");
-    solver::PoissonProblem& p = out_.problem;
     p.rest_given = boundary.contains("default");
     for (const auto& [name, condition] : boundary.items()) {
       const std::string pointer = "/boundary/" + name;

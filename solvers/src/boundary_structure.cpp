@@ -22,7 +22,7 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
                                      bool dirichlet_structure) {
   BoundaryStructure s;
   for (const BoundaryPart& part : problem.parts) {
-    Tape tape(part.selector, problem.dimension);
+    Tape tape(part.selector, problem.domain.dimension);
     Evaluator<double> eval(tape);
     const double sign = eval.at(interior);
     if (!(sign != 0.0) || !std::isfinite(sign))
@@ -61,7 +61,7 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
           std::string("with Neumann or Robin parts the default boundary condition must not be Dirichlet") +
           (problem.rest_given ? "" : " (without a \"default\", the boundary no named part claims is Dirichlet u = 0)") +
           ": name the Dirichlet parts and give the default the weak condition");
-    s.dirichlet_weight = problem.domain;
+    s.dirichlet_weight = problem.domain.field;
     bool uniform = true;
     for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, problem.rest.value);
     // Data given piece by piece: interpolate between the named pieces.

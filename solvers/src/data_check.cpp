@@ -167,7 +167,7 @@ DataRules poisson_data_rules(const PoissonProblem& problem, bool dirichlet_insid
 
 DataRules elasticity_data_rules(const ElasticityProblem& problem, bool fixed_inside) {
   DataRules rules;
-  const int d = problem.dimension;
+  const int d = problem.domain.dimension;
   for (int c = 0; c < d; ++c) {
     const auto component = static_cast<std::size_t>(c);
     rules.volume.push_back({"/body_force/" + std::to_string(c), problem.body_force[component]});

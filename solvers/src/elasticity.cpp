@@ -45,10 +45,7 @@ void check_problem(const ElasticityProblem& problem) {
 /// that fix c are Dirichlet parts with c's data, the others Neumann.
 PoissonProblem component_problem(const ElasticityProblem& problem, int c) {
   PoissonProblem p;
-  p.dimension = problem.dimension;
   p.domain = problem.domain;
-  p.min = problem.min;
-  p.max = problem.max;
   auto convert = [c](const ElasticPart& part) {
     BoundaryPart b;
     b.name = part.name;
@@ -215,7 +212,7 @@ FreeMotions hold_free_motions(const ElasticityProblem& problem, const SplineBasi
   const BackgroundGrid<D>& grid = basis.grid;
   const Eigen::Index N = basis.extension.cols();
   FreeMotions free;
-  for (int a = 0; a < D; ++a) free.centre[a] = 0.5 * (problem.min[a] + problem.max[a]);
+  for (int a = 0; a < D; ++a) free.centre[a] = 0.5 * (problem.domain.min[a] + problem.domain.max[a]);
   const int motions = kRigidMotions<D>;
   // Rigid motions are linear: their coefficients are their values at the B-splines' Greville points.
   Eigen::MatrixXd rigid(D * N, motions);
@@ -366,8 +363,9 @@ void elastic_results(ElasticitySolution<D>& solution, const ElasticityProblem& p
 
 template <int D>
 ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const SolverOptions& options) {
-  if (problem.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
-  check_solver_options(options, problem.min, problem.max, D);
+  const ProblemDomain& domain = problem.domain;
+  if (domain.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  check_solver_options(options, domain.min, domain.max, D);
   check_problem(problem);
   ElasticitySolution<D> solution;
   solution.material = problem.material;
@@ -376,10 +374,10 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   const int n = options.degree;
 
   // Setup: cells, their rules, the basis, the displacement route, the data checked.
-  DomainCells<D> cells(problem.domain, problem.boundary_mesh);
+  DomainCells<D> cells(domain.field, domain.boundary_mesh);
   timer.lap(&StageSeconds::field);
   const ClassifiedGrid<D> classified =
-      classify_grid<D>(cells, problem.min, problem.max, options.cell_width, n,
+      classify_grid<D>(cells, domain.min, domain.max, options.cell_width, n,
                        {options.linear_solver == LinearSolverKind::Direct, D, options.memory_limit_mb}, report);
   // Gauss with n + 1 nodes per direction (poisson.cpp says why one more where a curved piece is active).
   const int inside_points = options.quadrature_points > 0 ? options.quadrature_points : n + 1;
@@ -403,7 +401,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   if (structured) solution.structure = displacement_structure<D>(problem, classified.interior);
   check_data(elasticity_data_rules(problem, structured), rules, classified.grid.h);
   solution.mesh = cells.mesh();
-  if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
+  if (!solution.mesh) solution.domain = std::make_shared<Tape>(domain.field, D);
 
   // Assembly by the shared cell loop, one band per pair of components, then the system.
   ElasticityAssembly assembled =
@@ -416,12 +414,11 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   timer.lap(&StageSeconds::assembly);
 
   // Solve.
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
   LinearSolverKind kind = options.linear_solver;
   if (kind == LinearSolverKind::Automatic && D == 2) kind = LinearSolverKind::ConjugateGradient;
-  const double tolerance =
-      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(classified.grid.h, longest, n);
+  const double tolerance = options.cg_tolerance > 0.0
+                               ? options.cg_tolerance
+                               : automatic_cg_tolerance(classified.grid.h, domain.longest_side(), n);
   Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report);
   spread_coefficients(solution, coefficients);
   timer.lap(&StageSeconds::solve);

@@ -433,19 +433,20 @@ void solve_and_spread(PoissonSolution<D>& solution, const PoissonSystem& poisson
 
 template <int D>
 PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOptions& options) {
-  if (given.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
-  check_solver_options(options, given.min, given.max, D);
+  const ProblemDomain& domain = given.domain;
+  if (domain.dimension != D) throw std::invalid_argument("problem dimension does not match the solver");
+  check_solver_options(options, domain.min, domain.max, D);
   PoissonSolution<D> solution;
   SolveReport& report = solution.report;
   StageTimer timer(report);
   const int n = options.degree;
 
   // Setup: the domain's pieces, the cells, the routes, the rules, the basis, the data checked.
-  DomainCells<D> cells(given.domain, given.boundary_mesh);
+  DomainCells<D> cells(domain.field, domain.boundary_mesh);
   timer.lap(&StageSeconds::field);
   const bool direct = options.linear_solver == LinearSolverKind::Direct ||
                       (options.linear_solver == LinearSolverKind::Automatic && options.robin == RobinRoute::Structure);
-  const ClassifiedGrid<D> classified = classify_grid<D>(cells, given.min, given.max, options.cell_width, n,
+  const ClassifiedGrid<D> classified = classify_grid<D>(cells, domain.min, domain.max, options.cell_width, n,
                                                         {direct, 1, options.memory_limit_mb}, report);
   const double h = classified.grid.h;
   // Gauss with n + 1 nodes per direction, in inside cells and on every
@@ -463,8 +464,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
       boundary_structure(problem, classified.interior, routes.dirichlet == DirichletRoute::Structure);
   report.dirichlet_route = routes.dirichlet == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
   if (routes.weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double longest = domain.longest_side();
   if (routes.structured) report.robin_band = robin_band_width(options.robin_band, h, longest);
   // Nitsche's trial functions are the WEB B-splines themselves: the
   // structure's omega_D = 1 and g~ = 0 then (boundary_structure()).
@@ -488,7 +488,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   solution.structure = trial_tape<D>(trial);
   if (routes.structured) check_robin_structure(structure, trial, h, rules.volume, rules.surface);
   solution.mesh = cells.mesh();
-  if (!solution.mesh) solution.domain = std::make_shared<Tape>(problem.domain, D);
+  if (!solution.mesh) solution.domain = std::make_shared<Tape>(domain.field, D);
 
   // Assembly by the shared cell loop, then the system.
   PoissonAssembly assembly = assemble_poisson<D>(

@@ -44,7 +44,7 @@ TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructur
   if (band > 0.0 && power < 2)
     throw std::invalid_argument("the Robin structure's cut-off needs power >= 2 (C^1 weight)");
   if (!structure.has_weak_parts) throw std::invalid_argument("the Robin structure needs a Neumann or Robin part");
-  const int d = problem.dimension;
+  const int d = problem.domain.dimension;
   std::vector<Expr> fields, betas, fluxes;
   bool has_dirichlet = false;
   for (std::size_t k = 0; k < problem.parts.size(); ++k) {
@@ -64,7 +64,7 @@ TrialStructure robin_trial(const PoissonProblem& problem, const BoundaryStructur
       throw std::invalid_argument(
           "Robin structure: with Dirichlet parts, name the Neumann and Robin parts (the structure is built on their "
           "fields), or use the weak route");
-    t.robin_field = normalize(problem.domain, d);
+    t.robin_field = normalize(problem.domain.field, d);
     t.robin_weight = t.robin_field;
     beta = problem.rest.beta;
     flux = problem.rest.flux;

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <variant>
 
 namespace sage::problems {
 namespace {
@@ -27,22 +28,24 @@ const Part& part(const std::vector<Part>& parts, const std::string& name) {
 
 TEST(ProblemFile, HeatPlateIsAPoissonProblem) {
   const ProblemFile file = read_problem_file(bundled("plate_heat.json"));
-  EXPECT_FALSE(file.elasticity);
-  EXPECT_EQ(file.problem.dimension, 2);
-  ASSERT_EQ(file.problem.parts.size(), 3u);
-  EXPECT_EQ(part(file.problem.parts, "left_hole").kind, solver::BoundaryKind::Robin);
-  EXPECT_EQ(part(file.problem.parts, "plate").kind, solver::BoundaryKind::Dirichlet);
+  ASSERT_TRUE(std::holds_alternative<solver::PoissonProblem>(file.physics));
+  const solver::PoissonProblem& p = std::get<solver::PoissonProblem>(file.physics);
+  EXPECT_EQ(file.domain.dimension, 2);
+  EXPECT_EQ(p.domain.dimension, 2);
+  ASSERT_EQ(p.parts.size(), 3u);
+  EXPECT_EQ(part(p.parts, "left_hole").kind, solver::BoundaryKind::Robin);
+  EXPECT_EQ(part(p.parts, "plate").kind, solver::BoundaryKind::Dirichlet);
   solver::SolverOptions options;
   options.degree = 2;
   options.cell_width = 0.1;
-  const auto solution = solver::solve_poisson<2>(file.problem, options);
+  const auto solution = solver::solve_poisson<2>(p, options);
   EXPECT_GT(solution.report.unknowns, 100u);
 }
 
 TEST(ProblemFile, BracketIsAnElasticityProblem) {
   const ProblemFile file = read_problem_file(bundled("bracket.json"));
-  ASSERT_TRUE(file.elasticity);
-  const solver::ElasticityProblem& p = *file.elasticity;
+  ASSERT_TRUE(std::holds_alternative<solver::ElasticityProblem>(file.physics));
+  const solver::ElasticityProblem& p = std::get<solver::ElasticityProblem>(file.physics);
   EXPECT_EQ(p.material.plane, solver::PlaneMode::Stress);
   EXPECT_DOUBLE_EQ(p.material.young, 70000.0);
   ASSERT_EQ(p.parts.size(), 3u);

@@ -36,10 +36,10 @@ TEST(Transfinite, TakesEachPiecesDataOnItsPiece) {
 
 PoissonProblem square_with_hole() {
   PoissonProblem p;
-  p.dimension = 2;
+  p.domain.dimension = 2;
   const Expr outer = box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0());
   const Expr hole = ball({0, 0, 0}, 0.4, 2);
-  p.domain = r_and(outer, -hole, RSystem::r0());
+  p.domain.field = r_and(outer, -hole, RSystem::r0());
   p.parts = {{"outer", outer, BoundaryKind::Dirichlet, 1.0}, {"hole", hole, BoundaryKind::Dirichlet, 5.0}};
   return p;
 }

@@ -22,10 +22,10 @@ namespace {
 SolveReport shifted_square(BasisKind basis, double delta, int degree) {
   const double h = 0.125, s = delta * h;
   PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = box({-0.5 + s, -0.5 + s, 0}, {0.5 + s, 0.5 + s, 0}, 2, RSystem::r0());
-  problem.min = {-0.5 + s, -0.5 + s, 0};
-  problem.max = {0.5 + s, 0.5 + s, 0};
+  problem.domain.dimension = 2;
+  problem.domain.field = box({-0.5 + s, -0.5 + s, 0}, {0.5 + s, 0.5 + s, 0}, 2, RSystem::r0());
+  problem.domain.min = {-0.5 + s, -0.5 + s, 0};
+  problem.domain.max = {0.5 + s, 0.5 + s, 0};
   problem.source = 1.0;
   SolverOptions options;
   options.degree = degree;

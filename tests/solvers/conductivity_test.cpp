@@ -32,10 +32,10 @@ using namespace manufactured;
 PoissonProblem variable_k_problem(const Expr& domain, const Expr& k, const Expr& exact, const Expr& bubble,
                                   std::array<double, 3> min, std::array<double, 3> max) {
   PoissonProblem p;
-  p.dimension = 2;
-  p.domain = domain;
-  p.min = min;
-  p.max = max;
+  p.domain.dimension = 2;
+  p.domain.field = domain;
+  p.domain.min = min;
+  p.domain.max = max;
   p.conductivity = k;
   p.source = manufactured_source(exact, k, 2);
   p.exact = exact;
@@ -139,10 +139,10 @@ TEST(VariableConductivity, PolynomialKKeepsA3DSplineSpaceSolutionExact) {
   const Expr u = 1.0 + x - 2.0 * y + 0.5 * z + x * y * z + square(x) * z - 0.3 * square(y) * square(z);
   for (const Expr& k : {Expr(1.0), 1.0 + 0.5 * square(x) + 0.3 * y * z + 0.25 * square(z)}) {
     PoissonProblem problem;
-    problem.dimension = 3;
-    problem.domain = turned_cube();
-    problem.min = {-1, -1, -1};
-    problem.max = {1, 1, 1};
+    problem.domain.dimension = 3;
+    problem.domain.field = turned_cube();
+    problem.domain.min = {-1, -1, -1};
+    problem.domain.max = {1, 1, 1};
     problem.conductivity = k;
     problem.source = manufactured_source(u, k, 3);
     problem.exact = u;

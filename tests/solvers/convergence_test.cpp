@@ -147,10 +147,10 @@ TEST(PoissonPatchTest, BallWithRobinReproducesAQuadratic) {
   // sphere; with Robin only the weight is 1 and degree 2 holds u, so the
   // weak boundary terms and the 3D cut-cell rules are all that is left.
   PoissonProblem problem;
-  problem.dimension = 3;
-  problem.domain = ball({0, 0, 0}, 1.0, 3);
-  problem.min = {-1, -1, -1};
-  problem.max = {1, 1, 1};
+  problem.domain.dimension = 3;
+  problem.domain.field = ball({0, 0, 0}, 1.0, 3);
+  problem.domain.min = {-1, -1, -1};
+  problem.domain.max = {1, 1, 1};
   problem.source = 6.0;
   problem.rest.kind = BoundaryKind::Robin;
   problem.rest.beta = 2.0;
@@ -199,10 +199,10 @@ TEST(PoissonPatchTest, NeumannEdgeOnTheGridLattice) {
 /// integrates to zero on its own, so the compatibility check has work to do.
 PoissonProblem pure_neumann_disk() {
   PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = ball({0, 0, 0}, 1.0, 2);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
+  problem.domain.dimension = 2;
+  problem.domain.field = ball({0, 0, 0}, 1.0, 2);
+  problem.domain.min = {-1, -1, 0};
+  problem.domain.max = {1, 1, 0};
   const Expr x = Expr::x(), y = Expr::y();
   const Expr exact = exp(x) * cos(y) - 1.0 + square(x) + square(y) - 0.5 + disk_solution(coordinates());
   problem.exact = exact;
@@ -259,11 +259,11 @@ TEST(PoissonProblemErrors, IncompatibleNeumannDataAreRefused) {
 
 TEST(PoissonProblemErrors, TooCoarseAndEmptyDomains) {
   PoissonProblem problem = disk_problem();
-  problem.domain = ball({0, 0, 0}, 0.05, 2);
+  problem.domain.field = ball({0, 0, 0}, 0.05, 2);
   SolverOptions options;
   options.cell_width = 0.25;
   EXPECT_THROW(solve_poisson<2>(problem, options), std::runtime_error);
-  problem.domain = ball({0, 0, 0}, 0.5, 2) - 10.0;  // negative everywhere
+  problem.domain.field = ball({0, 0, 0}, 0.5, 2) - 10.0;  // negative everywhere
   EXPECT_THROW(solve_poisson<2>(problem, options), std::runtime_error);
 }
 

@@ -23,10 +23,10 @@ const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
 /// The unit disk with u = 0 on its circle, k = 1, f = 1.
 PoissonProblem disk() {
   PoissonProblem p;
-  p.dimension = 2;
-  p.domain = ball({0, 0, 0}, 1.0, 2);
-  p.min = {-1.1, -1.1, 0};
-  p.max = {1.1, 1.1, 0};
+  p.domain.dimension = 2;
+  p.domain.field = ball({0, 0, 0}, 1.0, 2);
+  p.domain.min = {-1.1, -1.1, 0};
+  p.domain.max = {1.1, 1.1, 0};
   p.source = 1.0;
   return p;
 }
@@ -34,10 +34,10 @@ PoissonProblem disk() {
 /// The square [-1, 1]^2 with a Robin bottom edge (y = -1) and a Neumann top edge, Dirichlet elsewhere.
 PoissonProblem square_with_parts() {
   PoissonProblem p;
-  p.dimension = 2;
-  p.domain = box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0());
-  p.min = {-1.2, -1.2, 0};
-  p.max = {1.2, 1.2, 0};
+  p.domain.dimension = 2;
+  p.domain.field = box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0());
+  p.domain.min = {-1.2, -1.2, 0};
+  p.domain.max = {1.2, 1.2, 0};
   p.source = 1.0;
   BoundaryPart bottom;
   bottom.name = "bottom";
@@ -175,10 +175,10 @@ TEST(DataCheck, StructureRouteReadsDirichletValuesThroughoutTheDomain) {
 
 TEST(DataCheck, ElasticityLoadsAndBodyForceIn3D) {
   ElasticityProblem p;
-  p.dimension = 3;
-  p.domain = box({0, 0, 0}, {2, 1, 1}, 3, RSystem::r0());
-  p.min = {-0.1, -0.1, -0.1};
-  p.max = {2.1, 1.1, 1.1};
+  p.domain.dimension = 3;
+  p.domain.field = box({0, 0, 0}, {2, 1, 1}, 3, RSystem::r0());
+  p.domain.min = {-0.1, -0.1, -0.1};
+  p.domain.max = {2.1, 1.1, 1.1};
   p.material.young = 100.0;
   p.material.poisson = 0.3;
   ElasticPart fixed;

@@ -26,8 +26,7 @@ template <int D>
 std::vector<Run> refine(const char* title, const ElasticityProblem& problem, int degree,
                         const std::vector<int>& cells) {
   std::vector<Run> runs;
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double longest = problem.domain.longest_side();
   std::printf("  %s, degree %d\n", title, degree);
   for (const int n : cells) {
     SolverOptions options;
@@ -56,11 +55,11 @@ void expect_optimal(const std::vector<Run>& runs, int degree) {
 /// The disk r < 1 cut at x = -0.5: the cut fixed, the arc loaded.
 ElasticityProblem cut_disk(const std::array<Expr, 3>& fixed_values, const std::array<Expr, 3>& arc_traction) {
   ElasticityProblem problem;
-  problem.dimension = 2;
+  problem.domain.dimension = 2;
   const Expr cut = halfspace({-0.5, 0, 0}, {-1, 0, 0}, 2);
-  problem.domain = r_and(ball({0, 0, 0}, 1.0, 2), cut, RSystem::r0());
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
+  problem.domain.field = r_and(ball({0, 0, 0}, 1.0, 2), cut, RSystem::r0());
+  problem.domain.min = {-1, -1, 0};
+  problem.domain.max = {1, 1, 0};
   problem.material = {200.0, 0.25, PlaneMode::Strain};
   problem.parts.push_back(fixed_part("cut", cut, {fixed_values[0], fixed_values[1], std::nullopt}));
   problem.rest = loaded_part("arc", Expr(0.0), arc_traction);
@@ -74,18 +73,18 @@ ElasticityProblem cut_disk(const std::array<Expr, 3>& fixed_values, const std::a
 ElasticityProblem quadrilateral(const std::array<Expr, 3>& fixed_values, const std::array<double, 6>& stress) {
   const std::array<std::array<double, 2>, 4> corner{{{-0.9, -0.7}, {0.8, -0.9}, {1.0, 0.6}, {-0.6, 0.95}}};
   ElasticityProblem problem;
-  problem.dimension = 2;
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
+  problem.domain.dimension = 2;
+  problem.domain.min = {-1, -1, 0};
+  problem.domain.max = {1, 1, 0};
   problem.material = {200.0, 0.25, PlaneMode::Strain};
-  problem.domain = Expr(1.0);
+  problem.domain.field = Expr(1.0);
   for (int e = 0; e < 4; ++e) {
     const auto& p = corner[e];
     const auto& q = corner[(e + 1) % 4];
     const double length = std::hypot(q[0] - p[0], q[1] - p[1]);
     const double nx = (q[1] - p[1]) / length, ny = -(q[0] - p[0]) / length;  // outward: corners run anticlockwise
     const Expr edge = halfspace({p[0], p[1], 0}, {nx, ny, 0}, 2);
-    problem.domain = e == 0 ? edge : r_and(problem.domain, edge, RSystem::r0());
+    problem.domain.field = e == 0 ? edge : r_and(problem.domain.field, edge, RSystem::r0());
     const std::string name = "edge" + std::to_string(e);
     if (e == 0) {
       problem.parts.push_back(fixed_part(name, edge, {fixed_values[0], fixed_values[1], std::nullopt}));

@@ -25,10 +25,10 @@ constexpr double kPi = 3.14159265358979323846;
 inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const Expr& exact, const Expr& extension,
                                         std::array<double, 3> min, std::array<double, 3> max) {
   PoissonProblem p;
-  p.dimension = dimension;
-  p.domain = domain;
-  p.min = min;
-  p.max = max;
+  p.domain.dimension = dimension;
+  p.domain.field = domain;
+  p.domain.min = min;
+  p.domain.max = max;
   p.source = manufactured_source(exact, p.conductivity, dimension);
   p.exact = exact;
   p.dirichlet_extension = extension;

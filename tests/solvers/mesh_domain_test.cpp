@@ -197,7 +197,7 @@ TEST(MeshDomain, CubeMeshSolvesLikeItsField) {
   using namespace manufactured;
   for (const int degree : {2, 3}) {
     PoissonProblem field = dirichlet_box(3), mesh = field;
-    mesh.boundary_mesh = box_mesh({1, 1, 1}, {0, 0, 0}, 0.0);
+    mesh.domain.boundary_mesh = box_mesh({1, 1, 1}, {0, 0, 0}, 0.0);
     SolverOptions options;
     options.degree = degree;
     options.estimate_condition = false;

@@ -41,10 +41,10 @@ Expr quadrilateral() {
 PoissonProblem dirichlet_on(const Expr& domain, const Expr& k, const Expr& exact, std::array<double, 3> min,
                             std::array<double, 3> max) {
   PoissonProblem p;
-  p.dimension = 2;
-  p.domain = domain;
-  p.min = min;
-  p.max = max;
+  p.domain.dimension = 2;
+  p.domain.field = domain;
+  p.domain.min = min;
+  p.domain.max = max;
   p.conductivity = k;
   p.source = manufactured_source(exact, k, 2);
   p.exact = exact;

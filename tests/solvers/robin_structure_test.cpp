@@ -183,10 +183,10 @@ TEST(RobinStructure, RefusesWhatItCannotPose) {
   // A Robin part that meets the Dirichlet part: the right edge of the square.
   const Expr x = Expr::x(), y = Expr::y();
   PoissonProblem edge;
-  edge.dimension = 2;
-  edge.domain = box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0());
-  edge.min = {-1, -1, 0};
-  edge.max = {1, 1, 0};
+  edge.domain.dimension = 2;
+  edge.domain.field = box({-1, -1, 0}, {1, 1, 0}, 2, RSystem::r0());
+  edge.domain.min = {-1, -1, 0};
+  edge.domain.max = {1, 1, 0};
   edge.source = 1.0;
   edge.parts = {{"others", (1.0 + x) * (1.0 - square(y)), BoundaryKind::Dirichlet, 0.0},
                 {"right", 1.0 - x, BoundaryKind::Robin, 0.0, 1.0, 0.0}};

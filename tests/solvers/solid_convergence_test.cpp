@@ -25,8 +25,7 @@ std::vector<RefinementRun> study(const char* title, const PoissonProblem& proble
   options.degree = degree;
   options.dirichlet = route;
   options.estimate_condition = false;
-  double longest = 0.0;
-  for (int a = 0; a < D; ++a) longest = std::max(longest, problem.max[a] - problem.min[a]);
+  const double longest = problem.domain.longest_side();
   std::vector<double> widths;
   for (int n : cells_across) widths.push_back(longest / n);
   const std::vector<RefinementRun> runs = refine<D>(problem, options, widths);

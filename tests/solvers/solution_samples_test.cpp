@@ -25,7 +25,7 @@ TEST(SolutionSamples, DiskSolutionAtPointsAndOmegaOnTheDefaultGrid) {
   options.cell_width = 2.2 / 16;
   const PoissonSolution<2> solution = solve_poisson<2>(p, options);
 
-  const Grid grid = solution_grid(2, p.min, p.max, options.cell_width);
+  const Grid grid = solution_grid(2, p.domain.min, p.domain.max, options.cell_width);
   EXPECT_EQ(grid.points[0], 16 * 4 + 1);  // 4 points per cell
   EXPECT_EQ(grid.points[2], 1);
   const std::vector<double> omega = omega_on_grid<2>(solution.domain, solution.mesh, solution.basis.grid.h, grid);

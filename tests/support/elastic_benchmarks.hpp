@@ -46,12 +46,12 @@ inline ElasticPart loaded_part(const std::string& name, const Expr& selector, co
 inline ElasticityProblem lame_cylinder(double a = 1.0, double b = 2.0, double p = 1.0, double young = 1000.0,
                                        double nu = 0.3) {
   ElasticityProblem problem;
-  problem.dimension = 2;
+  problem.domain.dimension = 2;
   const RSystem r0 = RSystem::r0();
   const Expr inner = ball({0, 0, 0}, a, 2);
-  problem.domain = r_and(ball({0, 0, 0}, b, 2), -inner, r0);
-  problem.min = {-b, -b, 0};
-  problem.max = {b, b, 0};
+  problem.domain.field = r_and(ball({0, 0, 0}, b, 2), -inner, r0);
+  problem.domain.min = {-b, -b, 0};
+  problem.domain.max = {b, b, 0};
   problem.material = {young, nu, PlaneMode::Strain};
   problem.parts.push_back(loaded_part("inner", inner, {Expr(0.0), Expr(0.0), Expr(0.0)}, p));
   const double A = p * a * a * (1 - 2 * nu) * (1 + nu) / (young * (b * b - a * a));
@@ -69,11 +69,11 @@ inline ElasticityProblem lame_cylinder(double a = 1.0, double b = 2.0, double p 
 inline ElasticityProblem kirsch_plate(double a = 1.0, double L = 4.0, double s = 1.0, double young = 1000.0,
                                       double nu = 0.3) {
   ElasticityProblem problem;
-  problem.dimension = 2;
+  problem.domain.dimension = 2;
   const RSystem r0 = RSystem::r0();
-  problem.domain = r_and(box({0, 0, 0}, {L, L, 0}, 2, r0), -ball({0, 0, 0}, a, 2), r0);
-  problem.min = {0, 0, 0};
-  problem.max = {L, L, 0};
+  problem.domain.field = r_and(box({0, 0, 0}, {L, L, 0}, 2, r0), -ball({0, 0, 0}, a, 2), r0);
+  problem.domain.min = {0, 0, 0};
+  problem.domain.max = {L, L, 0};
   problem.material = {young, nu, PlaneMode::Stress};
   const Expr x = Expr::x(), y = Expr::y(), r2 = radius2(2), r = sqrt(r2);
   const Expr c2 = (square(x) - square(y)) / r2, s2 = 2.0 * x * y / r2;
@@ -104,10 +104,10 @@ inline ElasticityProblem kirsch_plate(double a = 1.0, double L = 4.0, double s =
 inline ElasticityProblem timoshenko_cantilever(double L = 4.0, double c = 0.5, double P = 1.0, double young = 1000.0,
                                                double nu = 0.3) {
   ElasticityProblem problem;
-  problem.dimension = 2;
-  problem.domain = box({0, -c, 0}, {L, c, 0}, 2, RSystem::r0());
-  problem.min = {0, -c, 0};
-  problem.max = {L, c, 0};
+  problem.domain.dimension = 2;
+  problem.domain.field = box({0, -c, 0}, {L, c, 0}, 2, RSystem::r0());
+  problem.domain.min = {0, -c, 0};
+  problem.domain.max = {L, c, 0};
   problem.material = {young, nu, PlaneMode::Stress};
   const Expr x = Expr::x(), y = Expr::y();
   const double I = 2.0 * c * c * c / 3.0, E = young, G = problem.material.mu();
@@ -131,15 +131,15 @@ inline ElasticityProblem timoshenko_cantilever(double L = 4.0, double c = 0.5, d
 inline ElasticityProblem thick_sphere(bool octant, double a = 1.0, double b = 2.0, double p = 1.0,
                                       double young = 1000.0, double nu = 0.3) {
   ElasticityProblem problem;
-  problem.dimension = 3;
+  problem.domain.dimension = 3;
   const RSystem r0 = RSystem::r0();
   const Expr inner = ball({0, 0, 0}, a, 3);
-  problem.domain = r_and(ball({0, 0, 0}, b, 3), -inner, r0);
-  problem.min = {-b, -b, -b};
-  problem.max = {b, b, b};
+  problem.domain.field = r_and(ball({0, 0, 0}, b, 3), -inner, r0);
+  problem.domain.min = {-b, -b, -b};
+  problem.domain.max = {b, b, b};
   if (octant) {
-    problem.domain = r_and(problem.domain, box({0, 0, 0}, {2 * b, 2 * b, 2 * b}, 3, r0), r0);
-    problem.min = {0, 0, 0};
+    problem.domain.field = r_and(problem.domain.field, box({0, 0, 0}, {2 * b, 2 * b, 2 * b}, 3, r0), r0);
+    problem.domain.min = {0, 0, 0};
     for (int axis = 0; axis < 3; ++axis) {
       std::array<double, 3> normal{0, 0, 0};
       normal[static_cast<std::size_t>(axis)] = -1;

@@ -20,10 +20,10 @@ inline PoissonProblem square_with_robin_hole(const Expr& conductivity, const Exp
   const Expr x = Expr::x(), y = Expr::y();
   const Expr hole = ball({0, 0, 0}, 0.4, 2);
   PoissonProblem problem;
-  problem.dimension = 2;
-  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 0};
+  problem.domain.dimension = 2;
+  problem.domain.field = r_and(box({-1, -1, 0}, {1, 1, 0}, 2, r0), -hole, r0);
+  problem.domain.min = {-1, -1, 0};
+  problem.domain.max = {1, 1, 0};
   problem.conductivity = conductivity;
   const Expr exact = cos(0.5 * kPi * x) * cos(0.5 * kPi * y) * (1.0 + x * y + 0.5 * x);
   problem.exact = exact;
@@ -47,10 +47,10 @@ inline PoissonProblem dirichlet_box(int dimension) {
   constexpr double kPi = 3.14159265358979323846;
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
   PoissonProblem problem;
-  problem.dimension = dimension;
-  problem.domain = box({-1, -1, -1}, {1, 1, 1}, dimension, RSystem::r0());
-  problem.min = {-1, -1, dimension == 3 ? -1.0 : 0.0};
-  problem.max = {1, 1, dimension == 3 ? 1.0 : 0.0};
+  problem.domain.dimension = dimension;
+  problem.domain.field = box({-1, -1, -1}, {1, 1, 1}, dimension, RSystem::r0());
+  problem.domain.min = {-1, -1, dimension == 3 ? -1.0 : 0.0};
+  problem.domain.max = {1, 1, dimension == 3 ? 1.0 : 0.0};
   const Expr exact =
       dimension == 2 ? exp(x) * sin(0.5 * kPi * y) + x * y : exp(x) * sin(0.5 * kPi * y) * cos(z) + x * y * z;
   Expr bubble = 2.0;
@@ -71,11 +71,11 @@ inline PoissonProblem plate_with_hole(double beta = 1.0) {
   const RSystem r0 = RSystem::r0();
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
   PoissonProblem problem;
-  problem.dimension = 3;
+  problem.domain.dimension = 3;
   const Expr hole = cylinder({0, 0, 0}, {0, 0, 1}, 0.4);
-  problem.domain = r_and(box({-1, -1, 0}, {1, 1, 1}, 3, r0), -hole, r0);
-  problem.min = {-1, -1, 0};
-  problem.max = {1, 1, 1};
+  problem.domain.field = r_and(box({-1, -1, 0}, {1, 1, 1}, 3, r0), -hole, r0);
+  problem.domain.min = {-1, -1, 0};
+  problem.domain.max = {1, 1, 1};
   const Expr exact = exp(0.5 * x) * cos(y) * (1.0 + z) + x * y;
   problem.exact = exact;
   problem.source = manufactured_source(exact, problem.conductivity, 3);

@@ -13,6 +13,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <variant>
 
 namespace sage::problems {
 
@@ -23,12 +24,13 @@ class ProblemError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The physics of a problem file: "physics": "poisson" (the default) or "elasticity".
+using Physics = std::variant<solver::PoissonProblem, solver::ElasticityProblem>;
+
 struct ProblemFile {
-  /// "physics": "poisson" (the default) fills `problem`; "elasticity" fills
-  /// `elasticity` (and `problem`'s domain, box and dimension).
-  std::optional<solver::ElasticityProblem> elasticity;
-  solver::PoissonProblem problem;
   geometry::Model model;
+  solver::ProblemDomain domain;  // from the model and "bounds"; the physics holds it too
+  Physics physics;
   std::string exact_formula;                // empty when none
   std::optional<solver::RobinRoute> robin;  // "robin": "weak" | "structure"; --robin overrides
 };

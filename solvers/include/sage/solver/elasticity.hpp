@@ -39,6 +39,7 @@
 #include <sage/solver/elastic_material.hpp>
 #include <sage/solver/local_splines.hpp>
 #include <sage/solver/mesh_domain.hpp>
+#include <sage/solver/problem_domain.hpp>
 #include <sage/solver/solver_options.hpp>
 #include <sage/tape/evaluator.hpp>
 
@@ -65,15 +66,12 @@ struct ElasticPart {
 };
 
 struct ElasticityProblem {
-  int dimension = 2;
-  Expr domain;                         // omega >= 0 inside
-  std::array<double, 3> min{}, max{};  // a box holding the domain
+  ProblemDomain domain;
   ElasticMaterial material;
   std::array<Expr, 3> body_force{Expr(0.0), Expr(0.0), Expr(0.0)};
   std::vector<ElasticPart> parts;
-  ElasticPart rest;                                      // traction-free unless given
-  std::optional<std::array<Expr, 3>> exact;              // exact displacement, for error norms
-  std::shared_ptr<const TriangleSurface> boundary_mesh;  // 3D domains read from a mesh (poisson.hpp)
+  ElasticPart rest;                          // traction-free unless given
+  std::optional<std::array<Expr, 3>> exact;  // exact displacement, for error norms
 };
 
 /// Largest relative net load on a free rigid motion that is accepted: the

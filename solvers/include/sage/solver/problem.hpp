@@ -1,6 +1,6 @@
 #pragma once
-// A Poisson problem on an implicit domain, all data as expressions of
-// x, y (, z):
+// A Poisson problem on an implicit domain (problem_domain.hpp), all data
+// as expressions of x, y (, z):
 //
 //     -div(k grad u) = f              in the domain {omega >= 0}
 //     u = g                           on Dirichlet parts
@@ -14,10 +14,8 @@
 // inside the domain; the solver orients them.
 
 #include <sage/expression/expression.hpp>
-#include <sage/expression/triangle_surface.hpp>
+#include <sage/solver/problem_domain.hpp>
 
-#include <array>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,11 +34,9 @@ struct BoundaryPart {
 };
 
 struct PoissonProblem {
-  int dimension = 2;
-  Expr domain;                         // omega >= 0 inside
-  std::array<double, 3> min{}, max{};  // a box holding the domain
-  Expr conductivity = 1.0;             // k > 0
-  Expr source = 0.0;                   // f
+  ProblemDomain domain;
+  Expr conductivity = 1.0;  // k > 0
+  Expr source = 0.0;        // f
   std::vector<BoundaryPart> parts;
   BoundaryPart rest;  // the boundary no part claims
   /// False when the problem gives no condition for the rest (a problem
@@ -53,11 +49,6 @@ struct PoissonProblem {
   /// Overrides the Dirichlet extension g~ built from the parts' data (for
   /// tests and callers that have a better extension of the boundary data).
   std::optional<Expr> dirichlet_extension;
-  /// 3D domains read from a mesh: its triangles (the boundary of {domain >=
-  /// 0}). The solver then classifies cells and integrates cut cells from the
-  /// triangles (mesh_domain.hpp); `domain` still serves the Dirichlet
-  /// structure when asked for.
-  std::shared_ptr<const TriangleSurface> boundary_mesh;
 };
 
 /// Rvachev's transfinite interpolation of data g_k given on pieces where
