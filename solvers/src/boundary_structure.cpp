@@ -14,15 +14,15 @@ bool same_expression(const Expr& a, const Expr& b) {
 
 namespace {
 
-bool is_weak(const BoundaryPart& part) { return part.kind != BoundaryKind::Dirichlet; }
+bool is_weak(const BoundarySplit::Part& part) { return !part.value; }
 
 }  // namespace
 
-BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::array<double, 3>& interior,
+BoundaryStructure boundary_structure(const BoundarySplit& split, const std::array<double, 3>& interior,
                                      bool dirichlet_structure) {
   BoundaryStructure s;
-  for (const BoundaryPart& part : problem.parts) {
-    Tape tape(part.selector, problem.domain.dimension);
+  for (const BoundarySplit::Part& part : split.parts) {
+    Tape tape(part.selector, split.dimension);
     Evaluator<double> eval(tape);
     const double sign = eval.at(interior);
     if (!(sign != 0.0) || !std::isfinite(sign))
@@ -31,25 +31,21 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     s.selectors.push_back(sign > 0 ? part.selector : -part.selector);
     s.has_weak_parts = s.has_weak_parts || is_weak(part);
   }
-  const bool rest_weak = is_weak(problem.rest);
+  const bool rest_weak = is_weak(split.rest);
   s.has_weak_parts = s.has_weak_parts || rest_weak;
 
   std::vector<Expr> dirichlet_fields, dirichlet_values;
-  for (std::size_t k = 0; k < problem.parts.size(); ++k) {
-    if (is_weak(problem.parts[k])) continue;
+  for (std::size_t k = 0; k < split.parts.size(); ++k) {
+    if (is_weak(split.parts[k])) continue;
     dirichlet_fields.push_back(s.selectors[k]);
-    dirichlet_values.push_back(problem.parts[k].value);
+    dirichlet_values.push_back(*split.parts[k].value);
   }
-  // A Robin part with beta = 0 is a Neumann part.
-  auto robin = [](const BoundaryPart& part) {
-    return part.kind == BoundaryKind::Robin && !(part.beta.is_constant() && part.beta.constant_value() == 0.0);
-  };
-  bool has_robin = robin(problem.rest);
-  for (const BoundaryPart& part : problem.parts) has_robin = has_robin || robin(part);
+  bool has_robin = split.rest.robin;
+  for (const BoundarySplit::Part& part : split.parts) has_robin = has_robin || part.robin;
   // No condition given for the rest beside weak and Dirichlet parts: the
   // named parts claim the boundary, and omega_D is theirs alone.
   s.rest_must_be_empty =
-      dirichlet_structure && !problem.rest_given && s.has_weak_parts && !dirichlet_fields.empty() && !rest_weak;
+      dirichlet_structure && !split.rest_given && s.has_weak_parts && !dirichlet_fields.empty() && !rest_weak;
 
   if (!dirichlet_structure) {
     s.pure_neumann = rest_weak && dirichlet_fields.empty() && !has_robin;
@@ -59,14 +55,14 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     if (s.has_weak_parts)
       throw std::invalid_argument(
           std::string("with Neumann or Robin parts the default boundary condition must not be Dirichlet") +
-          (problem.rest_given ? "" : " (without a \"default\", the boundary no named part claims is Dirichlet u = 0)") +
+          (split.rest_given ? "" : " (without a \"default\", the boundary no named part claims is Dirichlet u = 0)") +
           ": name the Dirichlet parts and give the default the weak condition");
-    s.dirichlet_weight = problem.domain.field;
+    s.dirichlet_weight = split.domain;
     bool uniform = true;
-    for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, problem.rest.value);
+    for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, *split.rest.value);
     // Data given piece by piece: interpolate between the named pieces.
     s.dirichlet_extension = uniform || dirichlet_values.empty()
-                                ? problem.rest.value
+                                ? *split.rest.value
                                 : transfinite_interpolation(dirichlet_fields, dirichlet_values);
   } else if (dirichlet_fields.empty()) {
     s.pure_neumann = !has_robin;  // the solver checks compatibility and fixes the mean
@@ -79,7 +75,7 @@ BoundaryStructure boundary_structure(const PoissonProblem& problem, const std::a
     s.dirichlet_weight = weight;
     s.dirichlet_extension = transfinite_interpolation(dirichlet_fields, dirichlet_values);
   }
-  if (dirichlet_structure && problem.dirichlet_extension) s.dirichlet_extension = *problem.dirichlet_extension;
+  if (dirichlet_structure && split.extension) s.dirichlet_extension = *split.extension;
   return s;
 }
 

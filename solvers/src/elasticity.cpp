@@ -41,22 +41,18 @@ void check_problem(const ElasticityProblem& problem) {
   }
 }
 
-/// Component c as a Poisson problem for the structure route: the parts
-/// that fix c are Dirichlet parts with c's data, the others Neumann.
-PoissonProblem component_problem(const ElasticityProblem& problem, int c) {
-  PoissonProblem p;
-  p.domain = problem.domain;
-  auto convert = [c](const ElasticPart& part) {
-    BoundaryPart b;
-    b.name = part.name;
-    b.selector = part.selector;
-    b.kind = part.fixes(c) ? BoundaryKind::Dirichlet : BoundaryKind::Neumann;
-    if (part.fixes(c)) b.value = *part.displacement[static_cast<std::size_t>(c)];
-    return b;
+/// Component c's boundary split for the structure route: the parts that
+/// fix c prescribe its value, the others are weak.
+BoundarySplit component_split(const ElasticityProblem& problem, int c) {
+  BoundarySplit split;
+  split.dimension = problem.domain.dimension;
+  split.domain = problem.domain.field;
+  auto part = [c](const ElasticPart& given) {
+    return BoundarySplit::Part{given.name, given.selector, given.displacement[static_cast<std::size_t>(c)]};
   };
-  for (const ElasticPart& part : problem.parts) p.parts.push_back(convert(part));
-  p.rest = convert(problem.rest);
-  return p;
+  for (const ElasticPart& given : problem.parts) split.parts.push_back(part(given));
+  split.rest = part(problem.rest);
+  return split;
 }
 
 /// The rigid motions about `centre`: D translations, then the rotations
@@ -153,7 +149,7 @@ std::shared_ptr<const Tape> displacement_structure(const ElasticityProblem& prob
   std::vector<Expr> roots;
   for (int c = 0; c < D; ++c) {
     try {
-      const BoundaryStructure s = boundary_structure(component_problem(problem, c), interior, true);
+      const BoundaryStructure s = boundary_structure(component_split(problem, c), interior, true);
       roots.push_back(s.dirichlet_weight);
       roots.push_back(s.dirichlet_extension);
     } catch (const std::invalid_argument& e) {

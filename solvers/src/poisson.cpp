@@ -461,7 +461,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   const PoissonProblem problem = posed_problem(given, cells, classified, quadrature, early_rules);
   const PoissonRoutes routes = poisson_routes(problem, options);
   const BoundaryStructure structure =
-      boundary_structure(problem, classified.interior, routes.dirichlet == DirichletRoute::Structure);
+      boundary_structure(boundary_split(problem), classified.interior, routes.dirichlet == DirichletRoute::Structure);
   report.dirichlet_route = routes.dirichlet == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
   if (routes.weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
   const double longest = domain.longest_side();

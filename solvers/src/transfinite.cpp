@@ -1,4 +1,4 @@
-#include <sage/solver/problem.hpp>
+#include <sage/solver/boundary_structure.hpp>
 
 #include <stdexcept>
 

@@ -4,6 +4,7 @@
 // pure Neumann problems flagged.
 #include <sage/expression/primitives.hpp>
 #include <sage/solver/boundary_structure.hpp>
+#include <sage/solver/problem.hpp>
 #include <sage/tape/evaluator.hpp>
 #include <sage/tape/tape.hpp>
 
@@ -46,7 +47,7 @@ PoissonProblem square_with_hole() {
 
 TEST(BoundaryStructure, SelectorsAreOrientedAndDataInterpolated) {
   PoissonProblem p = square_with_hole();
-  const BoundaryStructure s = boundary_structure(p, {0.7, 0.0, 0.0});
+  const BoundaryStructure s = boundary_structure(boundary_split(p), {0.7, 0.0, 0.0});
   // The hole's disk field is negative in the domain: flipped.
   EXPECT_GT(at(s.selectors[1], 0.7, 0.0), 0.0);
   EXPECT_GT(at(s.selectors[0], 0.7, 0.0), 0.0);
@@ -61,7 +62,7 @@ TEST(BoundaryStructure, MixedConditionsWeightVanishesOnDirichletPartsOnly) {
   p.parts[1].kind = BoundaryKind::Robin;
   p.parts[1].beta = 1.0;
   p.rest = p.parts[1];
-  const BoundaryStructure s = boundary_structure(p, {0.7, 0.0, 0.0});
+  const BoundaryStructure s = boundary_structure(boundary_split(p), {0.7, 0.0, 0.0});
   EXPECT_TRUE(s.has_weak_parts);
   EXPECT_NEAR(at(s.dirichlet_weight, 1.0, 0.3), 0.0, 1e-12);
   EXPECT_GT(at(s.dirichlet_weight, 0.4, 0.0), 0.1);  // free on the Robin hole
@@ -71,18 +72,56 @@ TEST(BoundaryStructure, MixedConditionsWeightVanishesOnDirichletPartsOnly) {
 TEST(BoundaryStructure, RefusesWhatItCannotPose) {
   PoissonProblem p = square_with_hole();
   p.parts[1].kind = BoundaryKind::Neumann;  // rest stays Dirichlet
-  EXPECT_THROW(boundary_structure(p, {0.7, 0.0, 0.0}), std::invalid_argument);
+  EXPECT_THROW(boundary_structure(boundary_split(p), {0.7, 0.0, 0.0}), std::invalid_argument);
   // Nitsche's method needs no omega_D: the same problem is posed.
-  EXPECT_FALSE(boundary_structure(p, {0.7, 0.0, 0.0}, false).pure_neumann);
+  EXPECT_FALSE(boundary_structure(boundary_split(p), {0.7, 0.0, 0.0}, false).pure_neumann);
   p.rest.kind = BoundaryKind::Neumann;
   p.parts[0].kind = BoundaryKind::Neumann;
-  EXPECT_TRUE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);  // posed with zero mean (poisson.hpp)
-  p.parts[1].kind = BoundaryKind::Robin;                             // beta = 0: still Neumann
-  EXPECT_TRUE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);
+  EXPECT_TRUE(
+      boundary_structure(boundary_split(p), {0.7, 0.0, 0.0}).pure_neumann);  // posed with zero mean (poisson.hpp)
+  p.parts[1].kind = BoundaryKind::Robin;                                     // beta = 0: still Neumann
+  EXPECT_TRUE(boundary_structure(boundary_split(p), {0.7, 0.0, 0.0}).pure_neumann);
   p.parts[1].beta = 1.0;
-  EXPECT_FALSE(boundary_structure(p, {0.7, 0.0, 0.0}).pure_neumann);
+  EXPECT_FALSE(boundary_structure(boundary_split(p), {0.7, 0.0, 0.0}).pure_neumann);
   p = square_with_hole();
-  EXPECT_THROW(boundary_structure(p, {0.4, 0.0, 0.0}), std::invalid_argument);  // selector zero at the point
+  EXPECT_THROW(boundary_structure(boundary_split(p), {0.4, 0.0, 0.0}),
+               std::invalid_argument);  // selector zero at the point
+}
+
+TEST(BoundaryStructure, TakesASplitOfAnyPhysics) {
+  // An elasticity component's split: the outer part fixes it at 1, the
+  // hole and the rest are loaded (weak).
+  const PoissonProblem p = square_with_hole();
+  BoundarySplit split;
+  split.dimension = 2;
+  split.domain = p.domain.field;
+  split.parts = {{"outer", p.parts[0].selector, Expr(1.0)}, {"hole", p.parts[1].selector, std::nullopt}};
+  split.rest = {"default", Expr(0.0), std::nullopt};
+  BoundaryStructure s = boundary_structure(split, {0.7, 0.0, 0.0});
+  EXPECT_TRUE(s.has_weak_parts);
+  EXPECT_FALSE(s.pure_neumann);
+  EXPECT_NEAR(at(s.dirichlet_weight, 1.0, 0.3), 0.0, 1e-12);
+  EXPECT_GT(at(s.dirichlet_weight, 0.4, 0.0), 0.1);
+  EXPECT_NEAR(at(s.dirichlet_extension, 1.0, 0.3), 1.0, 1e-12);
+  split.parts[0].value.reset();  // nothing holds the component
+  s = boundary_structure(split, {0.7, 0.0, 0.0});
+  EXPECT_TRUE(s.pure_neumann);
+  EXPECT_NEAR(at(s.dirichlet_weight, 1.0, 0.3), 1.0, 1e-12);
+}
+
+TEST(BoundaryStructure, PoissonSplitsByKind) {
+  PoissonProblem p = square_with_hole();
+  p.parts[1].kind = BoundaryKind::Robin;  // beta = 0: a Neumann part
+  BoundarySplit split = boundary_split(p);
+  ASSERT_EQ(split.parts.size(), 2u);
+  ASSERT_TRUE(split.parts[0].value);
+  EXPECT_EQ(split.parts[0].value->id(), p.parts[0].value.id());
+  EXPECT_FALSE(split.parts[1].value);
+  EXPECT_FALSE(split.parts[1].robin);
+  p.parts[1].beta = 2.0;
+  split = boundary_split(p);
+  EXPECT_TRUE(split.parts[1].robin);
+  EXPECT_TRUE(split.rest.value);  // the rest stays Dirichlet u = 0
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 // inside the domain; the solver orients them.
 
 #include <sage/expression/expression.hpp>
+#include <sage/solver/boundary_structure.hpp>
 #include <sage/solver/problem_domain.hpp>
 
 #include <optional>
@@ -51,10 +52,8 @@ struct PoissonProblem {
   std::optional<Expr> dirichlet_extension;
 };
 
-/// Rvachev's transfinite interpolation of data g_k given on pieces where
-/// the fields omega_k vanish:  sum_k g_k prod_{l != k} omega_l^2 / sum_m
-/// prod_{l != m} omega_l^2. Equals g_k on piece k (away from the points
-/// where two pieces meet), smooth elsewhere.
-Expr transfinite_interpolation(const std::vector<Expr>& fields, const std::vector<Expr>& data);
+/// The problem's boundary for the Dirichlet structure (boundary_structure.hpp):
+/// Dirichlet parts prescribe their value, Neumann and Robin parts are weak.
+BoundarySplit boundary_split(const PoissonProblem& problem);
 
 }  // namespace sage::solver
