@@ -40,8 +40,8 @@ void elastic_table(const char* title, const ElasticityProblem& problem, int degr
     const StageSeconds& s = r.cpu_seconds;
     std::printf("%6d %9zu %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f %8.0f %6d %10.3e %10.3e", n, r.unknowns,
                 s.classification + s.field, s.quadrature, s.assembly, s.solve, s.total() - s.errors,
-                r.seconds.total() - r.seconds.errors, peak_megabytes(), r.iterations, *solution.results.l2_error,
-                *solution.results.energy_error);
+                r.seconds.total() - r.seconds.errors, peak_megabytes(), r.iterations, *solution.report.l2_error,
+                *solution.report.energy_error);
     if (concentration) {
       typename ElasticitySolution<D>::Probe probe(solution);
       const double top[3] = {0.0, 1.0, 0.0};

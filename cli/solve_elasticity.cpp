@@ -22,7 +22,7 @@ void solve_and_write(const SolveCommand& command, const solver::ElasticityProble
     throw std::runtime_error(command.problem_path + ": " + e.what());
   }
   const solver::SolveReport& r = solution.report;
-  const solver::ElasticityResults& results = solution.results;
+  const solver::ElasticityResults& results = *r.elasticity;
 
   const auto start = std::chrono::steady_clock::now();
   const WrittenSolution written = write_solution<D>(command, problem.domain, solution, problem.exact);
@@ -44,8 +44,7 @@ void solve_and_write(const SolveCommand& command, const solver::ElasticityProble
         "solution is L2-orthogonal to %s\n",
         results.free_rigid_motions, results.free_rigid_motions == 1 ? "" : "s", *results.load_balance,
         results.free_rigid_motions == 1 ? "it" : "them");
-  if (results.l2_error)
-    std::printf("  relative errors: L2 %.3e, energy norm %.3e\n", *results.l2_error, *results.energy_error);
+  if (r.l2_error) std::printf("  relative errors: L2 %.3e, energy norm %.3e\n", *r.l2_error, *r.energy_error);
   std::printf("  strain energy %.6g; largest von Mises stress %.6g at (", results.strain_energy, results.max_von_mises);
   for (int a = 0; a < D; ++a) std::printf("%s%g", a ? ", " : "", results.max_von_mises_at[static_cast<std::size_t>(a)]);
   std::printf(") (at the quadrature points)\n");

@@ -299,7 +299,8 @@ template <int D>
 void elastic_results(ElasticitySolution<D>& solution, const ElasticityProblem& problem,
                      const std::vector<std::vector<VolumePoint<D>>>& volume) {
   const ElasticMaterial& material = problem.material;
-  ElasticityResults& results = solution.results;
+  SolveReport& report = solution.report;
+  ElasticityResults& results = *report.elasticity;
   std::optional<Tape> exact_tape;
   if (problem.exact) exact_tape.emplace(std::vector<Expr>(problem.exact->begin(), problem.exact->begin() + D), D);
   double energy_sum = 0.0, error2 = 0.0, norm2 = 0.0, energy_error2 = 0.0, energy_norm2 = 0.0;
@@ -350,8 +351,8 @@ void elastic_results(ElasticitySolution<D>& solution, const ElasticityProblem& p
   results.max_von_mises = peak;
   results.max_von_mises_at = peak_at;
   if (exact_tape) {
-    results.l2_error = std::sqrt(error2 / norm2);
-    results.energy_error = std::sqrt(energy_error2 / energy_norm2);
+    report.l2_error = std::sqrt(error2 / norm2);
+    report.energy_error = std::sqrt(energy_error2 / energy_norm2);
   }
 }
 
@@ -366,6 +367,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   ElasticitySolution<D> solution;
   solution.material = problem.material;
   SolveReport& report = solution.report;
+  report.elasticity.emplace();
   StageTimer timer(report);
   const int n = options.degree;
 
@@ -406,7 +408,7 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   Eigen::VectorXd right;
   Eigen::SparseMatrix<double> system = elastic_system(solution.basis, assembled, right);
   report.nonzeros = 2 * static_cast<std::size_t>(system.nonZeros()) - static_cast<std::size_t>(system.rows());
-  const FreeMotions free = hold_free_motions(problem, solution.basis, system, right, solution.results);
+  const FreeMotions free = hold_free_motions(problem, solution.basis, system, right, *report.elasticity);
   timer.lap(&StageSeconds::assembly);
 
   // Solve.

@@ -56,8 +56,9 @@ TEST(ProblemFile, BracketIsAnElasticityProblem) {
   options.degree = 2;
   options.cell_width = 4.0;
   const auto solution = solver::solve_elasticity<2>(p, options);
-  EXPECT_EQ(solution.results.free_rigid_motions, 0);
-  EXPECT_GT(solution.results.max_von_mises, 0.0);
+  ASSERT_TRUE(solution.report.elasticity);
+  EXPECT_EQ(solution.report.elasticity->free_rigid_motions, 0);
+  EXPECT_GT(solution.report.elasticity->max_von_mises, 0.0);
 }
 
 TEST(ProblemFile, BadFilesNameFileAndPlace) {

@@ -80,23 +80,10 @@ struct ElasticityProblem {
 /// that does not balance is off by order 1.
 constexpr double kLoadBalanceTolerance = 1e-4;
 
-/// What an elasticity solve found beyond SolveReport.
-struct ElasticityResults {
-  double strain_energy = 0.0;  // (sigma(u_h), eps(u_h)) / 2
-  /// The largest von Mises stress at the volume quadrature points, and where.
-  double max_von_mises = 0.0;
-  std::array<double, 3> max_von_mises_at{};
-  int free_rigid_motions = 0;          // rigid motions no displacement condition holds
-  std::optional<double> load_balance;  // with free motions: their net load, relative
-  std::optional<double> l2_error;      // |u - u_h| / |u| in L2
-  std::optional<double> energy_error;  // energy norm of u - u_h over that of u
-};
-
 template <int D>
 class ElasticitySolution {
  public:
-  SolveReport report;
-  ElasticityResults results;
+  SolveReport report;  // with its `elasticity` results
   ElasticMaterial material;
   SplineBasis<D> basis;
   Eigen::MatrixXd spline_coefficients;    // relevant B-splines x components (E c)

@@ -1,11 +1,12 @@
 #pragma once
 // What the solvers (poisson.hpp, elasticity.hpp) share: their options, the
 // linear solvers and Dirichlet routes to choose from, and the report of a
-// solve (sizes, stage times, errors).
+// solve (sizes, stage times, errors, elasticity's results).
 
 #include <sage/solver/trial_structure.hpp>
 #include <sage/solver/web_basis.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -82,6 +83,17 @@ struct StageSeconds {
   double total() const { return field + classification + quadrature + assembly + solve + condition + errors; }
 };
 
+/// What an elasticity solve finds beyond the shared report.
+struct ElasticityResults {
+  double strain_energy = 0.0;  // (sigma(u_h), eps(u_h)) / 2
+  /// The largest von Mises stress at the volume quadrature points, and where.
+  double max_von_mises = 0.0;
+  std::array<double, 3> max_von_mises_at{};
+  int free_rigid_motions = 0;          // rigid motions no displacement condition holds
+  std::optional<double> load_balance;  // with free motions: their net load, relative
+};
+
+/// The report of a solve, of either physics.
 struct SolveReport {
   std::size_t cells = 0, cells_inside = 0, cells_cut = 0;
   std::size_t relevant_splines = 0, inner_splines = 0, outer_splines = 0, unknowns = 0, nonzeros = 0;
@@ -103,11 +115,13 @@ struct SolveReport {
   double memory_estimate_mb = 0.0;                                     // memory_estimate.hpp, from the classified grid
   StageSeconds seconds;                                                // wall clock
   StageSeconds cpu_seconds;                                            // process CPU time (all threads)
-  /// Relative errors when the problem has an exact solution: L2 and the H1
-  /// seminorm (|u - u_h|_1 / |u|_1).
-  std::optional<double> l2_error, h1_error;
-  /// Pure Neumann problems: |(f, 1) + <h, 1>| / ((|f|, 1) + <|h|, 1>).
+  /// Relative errors when the problem has an exact solution: L2 (|u - u_h| / |u|),
+  /// and for Poisson the H1 seminorm (|u - u_h|_1 / |u|_1), for elasticity
+  /// the energy norm of u - u_h over that of u.
+  std::optional<double> l2_error, h1_error, energy_error;
+  /// Pure Neumann Poisson problems: |(f, 1) + <h, 1>| / ((|f|, 1) + <|h|, 1>).
   std::optional<double> neumann_compatibility;
+  std::optional<ElasticityResults> elasticity;  // elasticity solves
 };
 
 /// How far from a mesh domain's surface its `omega` output is the exact
