@@ -19,7 +19,7 @@
 // Why: where two pieces meet (the edges and corners of a solid) omega is
 // not smooth and no direction is monotone, but each piece is. Cut-cell
 // quadrature works on the few pieces whose zero sets meet a cell, and takes
-// the inside of their combination from F (solvers/cell_pieces.hpp).
+// the inside of their combination from F (solver/include/sage/solver/domain_quadrature.hpp).
 //
 // Pieces are told apart by node identity (a shared subtree is one piece);
 // two equal pieces built separately stay two (coincident faces of a union

@@ -2,7 +2,7 @@
 // TriangleSurface: the boundary of a solid as a closed, oriented triangle
 // mesh (what geometry/ reads from OFF, STL, OBJ and PLY files and
 // validates), for consumers that work with the triangles themselves (the
-// solver's cut cells, solvers/mesh_domain.hpp) rather than with a field.
+// solver's cut cells, solver/include/sage/solver/mesh_domain.hpp) rather than with a field.
 //
 // Conventions: closed, 2-manifold, without self-intersections; each
 // triangle (a, b, c) is counter-clockwise seen from outside, so that

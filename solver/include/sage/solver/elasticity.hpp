@@ -1,7 +1,7 @@
 #pragma once
 // Static linear elasticity on an implicit domain (or a mesh's solid), the
 // vector counterpart of poisson.hpp, on the same grid, quadrature, WEB
-// basis and linear solvers (discretization.hpp in solvers/src):
+// basis and linear solvers (discretization.hpp in solver/src):
 //
 //     -div sigma(u) = f                     in the domain {omega >= 0}
 //     u_c = g_c  for the chosen components  on displacement parts
