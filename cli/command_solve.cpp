@@ -178,7 +178,7 @@ int run_solve(const std::vector<std::string>& args) {
   output::check_writable(command.output_path);
   if (!command.quadrature_path.empty()) output::check_writable(command.quadrature_path);
   const ProblemFile file = problems::read_problem_file(command.problem_path);
-  const solver::ProblemDomain& domain = file.domain;
+  const solver::ProblemDomain& domain = file.domain();
   command.options.robin = robin.value_or(file.robin.value_or(solver::RobinRoute::Weak));
   command.options.estimate_condition = vm.count("condition") > 0;
   if (command.h) {

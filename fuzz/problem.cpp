@@ -17,7 +17,7 @@ void problem(const std::uint8_t* data, std::size_t size) {
   const std::string path = write_scratch("problems/input.json", data, size);
   try {
     const problems::ProblemFile file = problems::read_problem_file(path);
-    evaluate(file.domain.field, file.domain.dimension);
+    evaluate(file.domain().field, file.domain().dimension);
   } catch (const std::exception& e) {
     rejected(e);
   }

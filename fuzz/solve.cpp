@@ -46,7 +46,7 @@ void solve(const std::uint8_t* data, std::size_t size) {
       solver::LinearSolverKind::ConjugateGradient, solver::LinearSolverKind::JacobiConjugateGradient};
   try {
     const problems::ProblemFile file = problems::read_problem_file(path);
-    const solver::ProblemDomain& domain = file.domain;
+    const solver::ProblemDomain& domain = file.domain();
     solver::SolverOptions options;
     // The Robin structure needs degree 2.
     options.robin = file.robin.value_or(solver::RobinRoute::Weak);

@@ -40,9 +40,9 @@ class Reader : geometry::JsonFields<ProblemError> {
     }
     if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
     read_domain(top["domain"]);
-    out_.domain.dimension = out_.model.dimension;
-    out_.domain.field = out_.model.field;
-    out_.domain.boundary_mesh = out_.model.surface;
+    domain_.dimension = out_.model.dimension;
+    domain_.field = out_.model.field;
+    domain_.boundary_mesh = out_.model.surface;
     read_bounds(top);
     if (physics == "elasticity")
       out_.physics = read_elasticity(top);
@@ -53,7 +53,7 @@ class Reader : geometry::JsonFields<ProblemError> {
  private:
   solver::PoissonProblem read_poisson(const Json& top) {
     solver::PoissonProblem p;
-    p.domain = out_.domain;
+    p.domain = domain_;
     if (top.contains("conductivity")) p.conductivity = formula(top["conductivity"], "/conductivity");
     if (top.contains("source")) p.source = formula(top["source"], "/source");
     if (top.contains("exact")) {
@@ -97,7 +97,7 @@ class Reader : geometry::JsonFields<ProblemError> {
   }
 
   void read_bounds(const Json& top) {
-    solver::ProblemDomain& p = out_.domain;
+    solver::ProblemDomain& p = domain_;
     const int d = p.dimension;
     if (top.contains("bounds")) {
       const Json& b = top["bounds"];
@@ -132,7 +132,7 @@ class Reader : geometry::JsonFields<ProblemError> {
 
   solver::ElasticityProblem read_elasticity(const Json& top) {
     solver::ElasticityProblem e;
-    e.domain = out_.domain;
+    e.domain = domain_;
     e.material.young = number_at(top, "E", "");
     if (!(e.material.young >= solver::kSmallestModulus && e.material.young <= solver::kLargestDatum))
       fail("/E",
@@ -265,6 +265,7 @@ class Reader : geometry::JsonFields<ProblemError> {
 
   std::string path_;
   ProblemFile& out_;
+  solver::ProblemDomain domain_;  // from the model and "bounds", given to the physics
 };
 
 }  // namespace

@@ -30,7 +30,7 @@ TEST(ProblemFile, HeatPlateIsAPoissonProblem) {
   const ProblemFile file = read_problem_file(bundled("plate_heat.json"));
   ASSERT_TRUE(std::holds_alternative<solver::PoissonProblem>(file.physics));
   const solver::PoissonProblem& p = std::get<solver::PoissonProblem>(file.physics);
-  EXPECT_EQ(file.domain.dimension, 2);
+  EXPECT_EQ(file.domain().dimension, 2);
   EXPECT_EQ(p.domain.dimension, 2);
   ASSERT_EQ(p.parts.size(), 3u);
   EXPECT_EQ(part(p.parts, "left_hole").kind, solver::BoundaryKind::Robin);

@@ -29,10 +29,14 @@ using Physics = std::variant<solver::PoissonProblem, solver::ElasticityProblem>;
 
 struct ProblemFile {
   geometry::Model model;
-  solver::ProblemDomain domain;  // from the model and "bounds"; the physics holds it too
   Physics physics;
   std::string exact_formula;                // empty when none
   std::optional<solver::RobinRoute> robin;  // "robin": "weak" | "structure"; --robin overrides
+
+  /// The domain (from the model and "bounds"), as the physics holds it.
+  const solver::ProblemDomain& domain() const {
+    return std::visit([](const auto& problem) -> const solver::ProblemDomain& { return problem.domain; }, physics);
+  }
 };
 
 /// Reads a problem file. Throws ProblemError (and geometry::ModelError for
