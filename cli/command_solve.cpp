@@ -74,12 +74,9 @@ void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& 
   print_written(command.output_path, written);
 }
 
-}  // namespace
-
-int run_solve(const std::vector<std::string>& args) {
-  SolveCommand command;
-  int cells = 0;
-  double h = 0.0;
+/// The options of `sage solve`, writing into `command` (and `cells`, `h`,
+/// which are optional in the command).
+po::options_description solve_options(SolveCommand& command, int& cells, double& h) {
   po::options_description options(
       "Usage: sage solve PROBLEM.json -o OUT.vtu [options]\n"
       "Solves -div(k grad u) = f with Dirichlet, Neumann and Robin conditions on the\n"
@@ -111,9 +108,9 @@ int run_solve(const std::vector<std::string>& args) {
   add("robin-band-power", po::value(&command.options.robin_band_power)->default_value(command.options.robin_band_power),
       "structure route: the power M of the cut-off (1 - omega_R / band)^M, M >= 2");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
-      "auto (cg in 2D, jacobi in 3D, direct for --robin structure), direct (sparse LDLT), cg (conjugate gradients, "
-      "incomplete Cholesky) "
-      "or jacobi (conjugate gradients, Jacobi)");
+      "auto (cg in 2D; in 3D jacobi, then cg when jacobi would take over 4,000 iterations; direct for --robin "
+      "structure), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) or jacobi (conjugate "
+      "gradients, Jacobi)");
   add("tolerance", po::value(&command.options.cg_tolerance),
       "relative residual of conjugate gradients (default (h/L)^(degree+3) within [1e-12, 1e-6], L the "
       "box's longest side: below the discretization error)");
@@ -121,8 +118,13 @@ int run_solve(const std::vector<std::string>& args) {
   add("quadrature-points", po::value(&command.quadrature_path), "also write the quadrature points to this .vtu");
   add("condition", "also estimate the condition number (two sparse factorizations: slow on large problems)");
   add("quiet,q", "no summary");
-  po::variables_map vm;
-  if (!parse_model_command(args, options, command.problem_path, vm)) return 0;
+  return options;
+}
+
+/// Checks the parsed options and turns their texts into the solver's
+/// enums; `robin` is --robin when given. Throws UsageError (exit 2).
+void check_options(SolveCommand& command, const po::variables_map& vm, int cells, double h,
+                   std::optional<solver::RobinRoute>& robin) {
   if (vm.count("cells")) command.cells = cells;
   if (vm.count("h")) command.h = h;
   command.quiet = vm.count("quiet") > 0;
@@ -165,7 +167,6 @@ int run_solve(const std::vector<std::string>& args) {
   if (vm.count("nitsche-penalty") && !(command.options.nitsche_penalty > 0.0))
     throw UsageError{"--nitsche-penalty must be positive"};
 
-  std::optional<solver::RobinRoute> robin;
   if (!command.robin.empty()) {
     try {
       robin = solver::parse_robin_route(command.robin);
@@ -173,6 +174,19 @@ int run_solve(const std::vector<std::string>& args) {
       throw UsageError{std::string("--robin: ") + e.what()};
     }
   }
+}
+
+}  // namespace
+
+int run_solve(const std::vector<std::string>& args) {
+  SolveCommand command;
+  int cells = 0;
+  double h = 0.0;
+  const po::options_description options = solve_options(command, cells, h);
+  po::variables_map vm;
+  if (!parse_model_command(args, options, command.problem_path, vm)) return 0;
+  std::optional<solver::RobinRoute> robin;
+  check_options(command, vm, cells, h, robin);
 
   // Before the work, not after it.
   output::check_writable(command.output_path);
