@@ -116,5 +116,30 @@ TEST(LinearSolve, InconsistentSingularSystemsEndWithAReason) {
   }
 }
 
+TEST(LinearSolve, AutomaticLeavesJacobiWhenItWouldTakeTooLong) {
+  // A long path's Laplacian (condition about (2n / pi)^2 = 1.5e7, Jacobi
+  // scaling gains nothing): Jacobi CG would need about n iterations, far
+  // beyond its budget of 4,000, while incomplete Cholesky of a tridiagonal
+  // matrix is exact. The automatic solver must leave Jacobi after its first
+  // legs, say so, and still solve.
+  const int n = 6000;
+  const Eigen::SparseMatrix<double> a = path_laplacian(n, 1e-7);
+  const Eigen::VectorXd expected = Eigen::VectorXd::LinSpaced(n, -3.0, 3.0).array().sin();
+  const Eigen::VectorXd b = a.selfadjointView<Eigen::Lower>() * expected;
+  SolveReport report;
+  const Eigen::VectorXd x = solve_symmetric(a, b, LinearSolverKind::Automatic, 1e-12, report);
+  EXPECT_TRUE(has(report.linear_solver, "Jacobi (") && has(report.linear_solver, "too slow), then incomplete Cholesky"))
+      << report.linear_solver;
+  EXPECT_LT(report.iterations, 4000) << report.linear_solver;
+  EXPECT_LT((x - expected).norm(), 1e-6 * expected.norm());
+
+  // A well-conditioned system stays on Jacobi.
+  const Eigen::SparseMatrix<double> easy = path_laplacian(n, 1.0);
+  SolveReport easy_report;
+  solve_symmetric(easy, easy.selfadjointView<Eigen::Lower>() * expected, LinearSolverKind::Automatic, 1e-12,
+                  easy_report);
+  EXPECT_EQ(easy_report.linear_solver, "conjugate gradients, Jacobi");
+}
+
 }  // namespace
 }  // namespace sage::solver
