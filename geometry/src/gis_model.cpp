@@ -72,6 +72,7 @@ Model load_gis(const std::string& path, const LoadOptions& options) {
   m.name = std::to_string(gis.polygons.polygons.size()) + " polygon(s), " + std::to_string(holes) + " hole(s), " +
            std::to_string(gis.polygons.edge_count()) + " edges";
   m.notes.push_back("coordinates: " + gis.crs);
+  m.crs_wkt = gis.crs_wkt;
   for (const auto& n : gis.notes) m.notes.push_back(n);
   m.warnings = gis.warnings;
   for (const auto& n : report.notes()) m.notes.push_back("validation: " + n);

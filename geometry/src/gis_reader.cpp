@@ -73,6 +73,16 @@ Ring ring_of(const OGRLinearRing* r, long long feature, int polygon, int ring) {
   return out;
 }
 
+/// `srs` as WKT2, the form that keeps every parameter and authority code.
+std::string wkt_of(const OGRSpatialReference& srs) {
+  char* text = nullptr;
+  const char* const options[] = {"FORMAT=WKT2_2019", nullptr};
+  if (srs.exportToWkt(&text, options) != OGRERR_NONE) text = nullptr;
+  std::string wkt = text ? text : "";
+  CPLFree(text);
+  return wkt;
+}
+
 /// A local azimuthal equidistant projection centred on (lat, lon).
 std::unique_ptr<OGRSpatialReference> local_projection(double lat, double lon) {
   auto srs = std::make_unique<OGRSpatialReference>();
@@ -81,6 +91,11 @@ std::unique_ptr<OGRSpatialReference> local_projection(double lat, double lon) {
   proj << "+proj=aeqd +lat_0=" << lat << " +lon_0=" << lon << " +x_0=0 +y_0=0 +datum=WGS84 +units=m +no_defs";
   if (srs->importFromProj4(proj.str().c_str()) != OGRERR_NONE)
     throw ModelError("cannot set up the projection " + proj.str() + ": " + QuietGdal::last_message());
+  // PROJ calls it "unknown"; a name tells it apart in GIS tools and summaries.
+  std::ostringstream name;
+  name.precision(8);
+  name << "sage local azimuthal equidistant, lat " << lat << ", lon " << lon;
+  srs->SetProjCS(name.str().c_str());
   srs->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
   return srs;
 }
@@ -99,8 +114,10 @@ bool within_lon_lat(const Geometries& geometries) {
 }
 
 /// Transforms longitude/latitude geometries (in `source_srs`) to a local
-/// azimuthal equidistant projection; returns what was done, in words.
-std::string project_lon_lat(const std::string& path, const OGRSpatialReference& source_srs, Geometries& geometries) {
+/// azimuthal equidistant projection; returns what was done, in words, and
+/// sets `wkt` to the projection.
+std::string project_lon_lat(const std::string& path, const OGRSpatialReference& source_srs, Geometries& geometries,
+                            std::string& wkt) {
   OGREnvelope box;
   bool first = true;
   for (auto& [i, g] : geometries) {
@@ -121,6 +138,7 @@ std::string project_lon_lat(const std::string& path, const OGRSpatialReference& 
   for (auto& [i, g] : geometries)
     if (g->transform(transform.get()) != OGRERR_NONE)
       throw ModelError(path + ": feature " + std::to_string(i) + ": projection failed: " + QuietGdal::last_message());
+  wkt = wkt_of(*target);
   std::ostringstream crs;
   crs.precision(8);
   crs << "longitude/latitude (" << (source_srs.GetName() ? source_srs.GetName() : "geographic")
@@ -131,10 +149,11 @@ std::string project_lon_lat(const std::string& path, const OGRSpatialReference& 
 /// Brings the geometries into a plane in metres: longitude/latitude data is
 /// projected, projected data kept. The source system is `user_crs` (--crs)
 /// when given, else the layer's; data with neither is taken as planar, with
-/// a warning when its coordinates could be degrees. Returns what was done.
+/// a warning when its coordinates could be degrees. Returns what was done,
+/// and sets `wkt` to the plane's system (empty when there is none).
 std::string project_to_plane(const std::string& path, const OGRSpatialReference* layer_srs,
                              const std::optional<std::string>& user_crs, Geometries& geometries,
-                             std::vector<std::string>& warnings) {
+                             std::vector<std::string>& warnings, std::string& wkt) {
   OGRSpatialReference given;
   std::string overridden;
   if (user_crs) {
@@ -153,7 +172,8 @@ std::string project_to_plane(const std::string& path, const OGRSpatialReference*
                          "planar)");
     return "no coordinate reference system: coordinates used as is (assumed planar)";
   }
-  if (layer_srs->IsGeographic()) return project_lon_lat(path, *layer_srs, geometries) + overridden;
+  if (layer_srs->IsGeographic()) return project_lon_lat(path, *layer_srs, geometries, wkt) + overridden;
+  wkt = wkt_of(*layer_srs);
   return std::string(layer_srs->GetName() ? layer_srs->GetName() : "projected") + " (projected, used as is)" +
          overridden;
 }
@@ -201,7 +221,7 @@ GisPolygons read_gis_polygons(const std::string& path, const LoadOptions& option
     if (g->hasCurveGeometry()) g.reset(g->getLinearGeometry());
     polygons_of(g.get(), path + ": feature " + std::to_string(i));  // type check before anything else
   }
-  out.crs = project_to_plane(path, layer->GetSpatialRef(), options.crs, geometries, out.warnings);
+  out.crs = project_to_plane(path, layer->GetSpatialRef(), options.crs, geometries, out.warnings, out.crs_wkt);
 
   // Repair in the plane where the field is built: straight edges between
   // projected vertices are not the images of the edges in longitude and

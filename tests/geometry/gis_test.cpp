@@ -7,6 +7,8 @@
 #include <sage/geometry/polygon_validation.hpp>
 #include <sage/tape/evaluator.hpp>
 
+#include <ogr_spatialref.h>
+
 #include <gtest/gtest.h>
 #include <test_files.hpp>
 
@@ -277,6 +279,27 @@ TEST(GisValidation, SelectionAndFileErrors) {
   std::ofstream(garbage) << "{\"type\": \"FeatureCollection\", \"features\": [ {oops";
   expect_fault(garbage.string(), {"GDAL cannot read"});
   expect_fault("/nonexistent/x.shp", {"GDAL cannot read"});
+}
+
+// The model carries the plane its field is built in as WKT, for
+// georeferenced output: the data's own projected system, the local
+// projection sage chose for longitude/latitude, or nothing.
+TEST(GisModel, ModelCarriesTheCoordinateSystemOfItsPlane) {
+  OGRSpatialReference srs;
+  const Model utm = load_gis(data("washington_island_wi_osm_EPSG3070.geojson"), {});
+  ASSERT_EQ(srs.importFromWkt(utm.crs_wkt.c_str()), OGRERR_NONE) << utm.crs_wkt;
+  EXPECT_STREQ(srs.GetAuthorityCode(nullptr), "3070");
+  const Model island = load_gis(data("washington_island_wi_osm.geojson"), {});
+  ASSERT_EQ(srs.importFromWkt(island.crs_wkt.c_str()), OGRERR_NONE) << island.crs_wkt;
+  // Centred where the notes say: "... centred on lat 45.38..., lon -86.9..."
+  std::string note;
+  for (const auto& n : island.notes)
+    if (n.find("centred on lat") != std::string::npos) note = n;
+  const double lat = std::stod(note.substr(note.find("lat ") + 4)), lon = std::stod(note.substr(note.find("lon ") + 4));
+  EXPECT_STREQ(srs.GetAttrValue("PROJECTION"), "Azimuthal_Equidistant");
+  EXPECT_NEAR(srs.GetNormProjParm(SRS_PP_LATITUDE_OF_CENTER, 0), lat, 1e-6);
+  EXPECT_NEAR(srs.GetNormProjParm(SRS_PP_LONGITUDE_OF_CENTER, 0), lon, 1e-6);
+  EXPECT_TRUE(load_model(std::string(SAGE_SOURCE_DIR) + "/examples/models/plate_with_holes.json").crs_wkt.empty());
 }
 
 TEST(GisModel, GeoJsonWithJsonExtensionIsGisData) {

@@ -27,6 +27,7 @@ namespace sage::geometry {
 struct GisPolygons {
   PolygonSet polygons;
   std::string crs;                    // what coordinate system the polygons are in, and how
+  std::string crs_wkt;                // that system as WKT2; empty when the data has none
   std::vector<std::string> notes;     // features used, unions and repairs done
   std::vector<std::string> warnings;  // what the user should check (a missing coordinate system)
 };

@@ -42,6 +42,11 @@ struct Model {
   int dimension = 2;
   RSystem rfunction = RSystem::r0();  // default for operators without their own
   std::optional<Bounds> bounds;
+  /// GIS: the projected coordinate reference system the field is built in,
+  /// as WKT2 (the local projection sage chose, or the data's own), for
+  /// writers of georeferenced rasters. Empty when unknown: JSON models,
+  /// meshes and GIS data without a coordinate system.
+  std::string crs_wkt;
   Expr field;
   std::map<std::string, Expr> named;  // named nodes, by name
   std::vector<PrimitiveInfo> primitives;
