@@ -1,6 +1,8 @@
 #include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 
+#include "provenance.hpp"
+
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
@@ -42,13 +44,7 @@ vtkNew<vtkDoubleArray> make_array(const std::string& name, int components, const
 void add_provenance(vtkFieldData* data, const FieldSamples& s) {
   vtkNew<vtkStringArray> evaluation;
   evaluation->SetName("evaluation");
-  if (s.far_field_tolerance > 0)
-    evaluation->InsertNextValue("far-field approximation: patches within far_field_tolerance of the exact field");
-  else if (s.far_faces)
-    evaluation->InsertNextValue(
-        "far mesh faces in single precision: deviation from exact evaluation measured as far_faces_deviation");
-  else
-    evaluation->InsertNextValue("exact");
+  evaluation->InsertNextValue(evaluation_text(s));
   data->AddArray(evaluation);
   if (s.far_faces) {
     vtkNew<vtkDoubleArray> deviation;

@@ -1,0 +1,41 @@
+#pragma once
+// Writing a 2D field's samples as a GeoTIFF that QGIS and GDAL open
+// directly, with GDAL's COG driver (Cloud Optimized GeoTIFF: tiled,
+// DEFLATE-compressed, with overviews). One band per array, named by its
+// band description as the .vti arrays are named: omega, grad_omega_x,
+// grad_omega_y, grad_norm, then d<k>_omega_<partial> (d2_omega_xx, ...).
+//
+// Georeferencing: sage's samples are values at grid points, a raster
+// pixel's value is at its centre (GeoTIFF's PixelIsArea, GDAL's default).
+// So each pixel is centred on its grid point: the geotransform's origin is
+// the first grid point minus half a pixel, and rows run north-up (the
+// first row holds the grid's largest y).
+
+#include <sage/sampling/field_samples.hpp>
+
+#include <string>
+#include <vector>
+
+namespace sage::output {
+
+struct GeoTiffOptions {
+  std::string crs_wkt;   // the plane's coordinate reference system (WKT); empty: none is written
+  bool float64 = false;  // Float64 bands in place of Float32
+};
+
+/// True if `path` ends in .tif or .tiff.
+bool is_geotiff_path(const std::string& path);
+
+/// The band descriptions write_geotiff gives `samples`, in band order.
+std::vector<std::string> geotiff_band_names(const FieldSamples& samples);
+
+/// The name GDAL gives a coordinate reference system written as WKT (for
+/// summaries); empty when `wkt` is empty or not understood.
+std::string crs_name(const std::string& wkt);
+
+/// Writes the samples of a 2D grid to `path` (atomically, as every
+/// writer): one band per array, non-finite values as nodata (NaN). Throws
+/// OutputError naming the path for a 3D grid or when GDAL cannot write.
+void write_geotiff(const std::string& path, const FieldSamples& samples, const GeoTiffOptions& options = {});
+
+}  // namespace sage::output
