@@ -1,4 +1,5 @@
-// sage field MODEL -o OUT.vtu [--grid 200x200] [--bounds ...] [--order K] [--rfunction r0] [--tolerance T | --exact]
+// sage field MODEL -o OUT.vtu|.vti|.tif [--grid 200x200 | --resolution R] [--bounds ...] [--order K]
+//            [--rfunction r0] [--tolerance T | --exact] [--float64]
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -15,17 +16,23 @@ int run_field(const std::vector<std::string>& args) {
   FieldJob job;
   std::string grid, bounds, rfunction;
   po::options_description options(
-      "Usage: sage field MODEL -o OUT.vtu|OUT.vti [options]\n"
+      "Usage: sage field MODEL -o OUT.vtu|OUT.vti|OUT.tif [options]\n"
       "MODEL: a JSON model, GIS vector data (.geojson, .shp, .gpkg, ...) or a mesh\n"
       "(.off, .stl, .obj, .ply).\n"
       "Samples the model's field and its derivatives on a regular grid and writes\n"
       "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2;\n"
-      "omega alone for --order 0).\n\n"
+      "omega alone for --order 0). A 2D field also goes to a GeoTIFF (.tif) for QGIS\n"
+      "and GDAL: one band per array, in the coordinate system the field was built in.\n\n"
       "Options");
   auto add = options.add_options();
   add("help,h", "show this help");
-  add("output,o", po::value(&job.output_path)->required(), "output file, .vtu or .vti");
+  add("output,o", po::value(&job.output_path)->required(), "output file, .vtu, .vti or (2D) .tif");
   add("grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)");
+  double resolution = 0.0;
+  add("resolution", po::value(&resolution),
+      "in place of --grid: the distance between grid points (a GeoTIFF's pixel size), in the model's units "
+      "(metres for GIS data)");
+  add("float64", "GeoTIFF: Float64 bands (default Float32)");
   add("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")");
   add("order", po::value(&job.order)->default_value(1),
       "highest derivative order written (0 to 6; 0: omega only, for contouring)");
@@ -45,6 +52,8 @@ int run_field(const std::vector<std::string>& args) {
   if (!parse_model_command(args, options, job.model_path, vm)) return 0;
   finish_source_options(vm, job.load, source_text);
   if (vm.count("grid")) job.grid = grid;
+  if (vm.count("resolution")) job.resolution = resolution;
+  job.float64 = vm.count("float64") > 0;
   if (vm.count("bounds")) job.bounds = bounds;
   if (vm.count("rfunction")) job.rfunction = rfunction;
   if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
@@ -61,6 +70,7 @@ int run_field(const std::vector<std::string>& args) {
     std::cout << "), omega in [" << r.omega_min << ", " << r.omega_max << "], " << r.instructions
               << " tape instructions, sampling " << r.seconds_sampling << " s, writing " << r.seconds_writing << " s";
     std::cout << "\n";
+    if (!r.geotiff.empty()) std::cout << r.geotiff << "\n";
     // The plan as planned, but far faces as they went: measured, or
     // rejected and sampled again exactly.
     const Approximation& a = r.plan.approximation;

@@ -3,6 +3,7 @@
 #include "commands.hpp"
 #include "progress.hpp"
 
+#include <sage/output/geotiff_writer.hpp>
 #include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 #include <sage/sampling/field_samples.hpp>
@@ -12,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace sage::cli {
@@ -19,6 +21,43 @@ namespace sage::cli {
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Points `spacing` apart along each axis from grid.lo on, up to the first
+/// at or past grid.hi, which moves there: the spacing is then exact.
+void space_points(Grid& grid, double spacing) {
+  std::ostringstream given;
+  given << "--resolution " << spacing;
+  if (!(spacing > 0) || !std::isfinite(spacing))
+    throw UsageError{given.str() + ": must be a positive distance between grid points (the model's units)"};
+  double total = 1;
+  for (int a = 0; a < grid.dimension; ++a) {
+    // A hair under the quotient: bounds a whole number of steps apart get
+    // no extra point from rounding.
+    const double steps = std::ceil((grid.hi[a] - grid.lo[a]) / spacing * (1 - 1e-12));
+    if (!(steps < 100000)) throw UsageError{given.str() + ": over 100000 points along an axis; give a larger one"};
+    grid.points[a] = std::max(2, static_cast<int>(steps) + 1);
+    grid.hi[a] = grid.lo[a] + (grid.points[a] - 1) * spacing;
+    total *= grid.points[a];
+  }
+  if (total > kMaxGridPoints)
+    throw UsageError{given.str() + ": " + std::to_string(static_cast<long long>(total)) +
+                     " points is more than the limit of " + std::to_string(kMaxGridPoints)};
+}
+
+/// What a GeoTIFF holds, in words, for the summary.
+std::string describe_geotiff(const FieldSamples& samples, const geometry::Model& model, bool float64) {
+  std::ostringstream text;
+  const std::vector<std::string> bands = output::geotiff_band_names(samples);
+  text << "GeoTIFF: " << bands.size() << (float64 ? " Float64" : " Float32") << " band(s)";
+  for (std::size_t b = 0; b < bands.size(); ++b) text << (b ? ", " : " ") << bands[b];
+  text << "; pixels " << samples.grid.spacing(0) << " x " << samples.grid.spacing(1) << " centred on the grid points; ";
+  const std::string crs = output::crs_name(model.crs_wkt);
+  if (model.crs_wkt.empty())
+    text << "no coordinate reference system: " << model.source << " has none (coordinates written as they are)";
+  else
+    text << "coordinate reference system " << (crs.empty() ? "(unnamed)" : crs) << ", where the field was built";
+  return text.str();
 }
 }  // namespace
 
@@ -81,7 +120,7 @@ void finish_source_options(const boost::program_options::variables_map& vm, geom
 }
 
 Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
-              const std::optional<std::string>& bounds) {
+              const std::optional<std::string>& bounds, std::optional<double> spacing) {
   Grid grid;
   grid.dimension = model.dimension;
   try {
@@ -101,20 +140,27 @@ Grid grid_for(const geometry::Model& model, const std::optional<std::string>& re
     throw UsageError{e.what()};
   }
   if (model.dimension == 2) grid.lo[2] = grid.hi[2] = 0.0;
+  if (spacing) space_points(grid, *spacing);
   return grid;
 }
 
 FieldReport run_field_job(const FieldJob& job) {
-  if (!output::is_supported_field_path(job.output_path))
-    throw UsageError{"-o " + job.output_path + ": the output must end in .vtu or .vti"};
+  const bool geotiff = output::is_geotiff_path(job.output_path);
+  if (!geotiff && !output::is_supported_field_path(job.output_path))
+    throw UsageError{"-o " + job.output_path + ": the output must end in .vtu, .vti or .tif"};
+  if (job.float64 && !geotiff) throw UsageError{"--float64 is for GeoTIFF output (.tif): .vtu and .vti hold doubles"};
+  if (job.grid && job.resolution) throw UsageError{"give --grid or --resolution, not both"};
   if (job.order < 0 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
   if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
     throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
   output::check_writable(job.output_path);  // before the work, not after it
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
+  if (geotiff && model.dimension != 2)
+    throw UsageError{"-o " + job.output_path + ": a GeoTIFF holds 2D fields, and " + job.model_path +
+                     " is 3D: write .vti or .vtu"};
   FieldReport report;
-  report.grid = grid_for(model, job.grid, job.bounds);
+  report.grid = grid_for(model, job.grid, job.bounds, job.resolution);
 
   auto start = std::chrono::steady_clock::now();
   const Tape tape(model.field, model.dimension);
@@ -150,7 +196,12 @@ FieldReport run_field_job(const FieldJob& job) {
     }
 
   start = std::chrono::steady_clock::now();
-  output::write_field(job.output_path, samples);
+  if (geotiff) {
+    output::write_geotiff(job.output_path, samples, {model.crs_wkt, job.float64});
+    report.geotiff = describe_geotiff(samples, model, job.float64);
+  } else {
+    output::write_field(job.output_path, samples);
+  }
   report.seconds_writing = seconds_since(start);
   return report;
 }

@@ -1,6 +1,6 @@
 #pragma once
 // One field job: read a model, sample its field on a grid, write a VTK
-// file. Shared by `sage field` and `sage demo`.
+// file or (2D) a GeoTIFF. Shared by `sage field` and `sage demo`.
 
 #include <sage/geometry/model.hpp>
 #include <sage/sampling/field_samples.hpp>
@@ -18,6 +18,7 @@ struct FieldJob {
   std::string model_path;
   std::string output_path;
   std::optional<std::string> grid;       // "200x200" / "64x64x64"
+  std::optional<double> resolution;      // in place of grid: points this far apart (the model's units)
   std::optional<std::string> bounds;     // "xmin,xmax,ymin,ymax[,zmin,zmax]"
   std::optional<std::string> rfunction;  // overrides the model's default
   geometry::LoadOptions load;            // GIS and mesh options
@@ -26,6 +27,7 @@ struct FieldJob {
   // diagonal (0 = exact sampling); unset: sage's default (plan_sampling).
   std::optional<double> tolerance;
   bool show_progress = true;
+  bool float64 = false;  // GeoTIFF bands in Float64 rather than Float32
 };
 
 struct FieldReport {
@@ -39,6 +41,8 @@ struct FieldReport {
   bool far_faces = false;
   bool far_faces_rejected = false;
   double far_faces_deviation = 0;
+  // GeoTIFF output: its bands and coordinate reference system, in words.
+  std::string geotiff;
 };
 
 /// Reads any geometry source with the job's options (throws ModelError).
@@ -63,9 +67,11 @@ void finish_source_options(const boost::program_options::variables_map& vm, geom
                            const SourceOptionText& text);
 
 /// The grid for a model: --grid / --bounds when given, else the model's
-/// bounds and a default resolution (200x200 or 64x64x64).
+/// bounds and a default resolution (200x200 or 64x64x64). With `spacing`
+/// (--resolution) in place of --grid, the points are that far apart from
+/// the bounds' minimum on, up to the first point at or past their maximum.
 Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,
-              const std::optional<std::string>& bounds);
+              const std::optional<std::string>& bounds, std::optional<double> spacing = std::nullopt);
 
 FieldReport run_field_job(const FieldJob& job);
 

@@ -280,7 +280,7 @@ TEST(CliErrors, BadOptionValues) {
   expect_failure("field " + m + out + " --order 9", {"--order"});
   expect_failure("field " + m + out + " --order -1", {"--order"});
   expect_failure("field " + m + out + " --rfunction rp:5", {"--rfunction", "even"});
-  expect_failure("field " + m + " -o " + scratch("x.png").string(), {".vtu or .vti"});
+  expect_failure("field " + m + " -o " + scratch("x.png").string(), {".vtu, .vti or .tif"});
 }
 
 TEST(CliErrors, UnwritableOutput) {
