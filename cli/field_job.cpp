@@ -46,18 +46,39 @@ void space_points(Grid& grid, double spacing) {
 }
 
 /// What a GeoTIFF holds, in words, for the summary.
-std::string describe_geotiff(const FieldSamples& samples, const geometry::Model& model, bool float64) {
+std::string describe_geotiff(const FieldSamples& samples, const geometry::Model& model,
+                             const output::GeoTiffOptions& options) {
   std::ostringstream text;
   const std::vector<std::string> bands = output::geotiff_band_names(samples);
-  text << "GeoTIFF: " << bands.size() << (float64 ? " Float64" : " Float32") << " band(s)";
+  text << "GeoTIFF: " << bands.size() << (options.float64 ? " Float64" : " Float32") << " band(s)";
   for (std::size_t b = 0; b < bands.size(); ++b) text << (b ? ", " : " ") << bands[b];
-  text << "; pixels " << samples.grid.spacing(0) << " x " << samples.grid.spacing(1) << " centred on the grid points; ";
-  const std::string crs = output::crs_name(model.crs_wkt);
+  auto name = [](const std::string& wkt) {
+    const std::string n = output::crs_name(wkt);
+    return n.empty() ? std::string("(unnamed)") : n;
+  };
   if (model.crs_wkt.empty())
-    text << "no coordinate reference system: " << model.source << " has none (coordinates written as they are)";
+    text << "; pixels " << samples.grid.spacing(0) << " x " << samples.grid.spacing(1)
+         << " centred on the grid points; no coordinate reference system: " << model.source
+         << " has none (coordinates written as they are)";
+  else if (options.warp_to_wkt.empty())
+    text << "; pixels " << samples.grid.spacing(0) << " x " << samples.grid.spacing(1)
+         << " centred on the grid points; coordinate reference system " << name(model.crs_wkt)
+         << ", where the field was built";
   else
-    text << "coordinate reference system " << (crs.empty() ? "(unnamed)" : crs) << ", where the field was built";
+    text << "; warped (bilinear) into " << name(options.warp_to_wkt) << ": the field was evaluated in the plane where "
+         << "it was built, " << name(model.crs_wkt) << ", and resampled; grad_omega_x, _y are that plane's components";
   return text.str();
+}
+
+/// --crs-out as WKT, checked before the work (a usage error when unknown).
+std::string warp_target(const FieldJob& job, bool geotiff) {
+  if (!job.crs_out) return "";
+  if (!geotiff) throw UsageError{"--crs-out is for GeoTIFF output (.tif)"};
+  try {
+    return output::crs_wkt_from(*job.crs_out);
+  } catch (const output::OutputError& e) {
+    throw UsageError{std::string("--crs-out ") + e.what()};
+  }
 }
 }  // namespace
 
@@ -150,6 +171,7 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu, .vti or .tif"};
   if (job.float64 && !geotiff) throw UsageError{"--float64 is for GeoTIFF output (.tif): .vtu and .vti hold doubles"};
   if (job.grid && job.resolution) throw UsageError{"give --grid or --resolution, not both"};
+  const output::GeoTiffOptions tiff_options{"", job.float64, warp_target(job, geotiff)};
   if (job.order < 0 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
   if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
@@ -159,6 +181,9 @@ FieldReport run_field_job(const FieldJob& job) {
   if (geotiff && model.dimension != 2)
     throw UsageError{"-o " + job.output_path + ": a GeoTIFF holds 2D fields, and " + job.model_path +
                      " is 3D: write .vti or .vtu"};
+  if (job.crs_out && model.crs_wkt.empty())
+    throw UsageError{"--crs-out: " + job.model_path +
+                     " has no coordinate reference system to warp from (GIS data without one: give --crs)"};
   FieldReport report;
   report.grid = grid_for(model, job.grid, job.bounds, job.resolution);
 
@@ -197,8 +222,10 @@ FieldReport run_field_job(const FieldJob& job) {
 
   start = std::chrono::steady_clock::now();
   if (geotiff) {
-    output::write_geotiff(job.output_path, samples, {model.crs_wkt, job.float64});
-    report.geotiff = describe_geotiff(samples, model, job.float64);
+    output::GeoTiffOptions options = tiff_options;
+    options.crs_wkt = model.crs_wkt;
+    output::write_geotiff(job.output_path, samples, options);
+    report.geotiff = describe_geotiff(samples, model, options);
   } else {
     output::write_field(job.output_path, samples);
   }

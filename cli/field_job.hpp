@@ -27,7 +27,8 @@ struct FieldJob {
   // diagonal (0 = exact sampling); unset: sage's default (plan_sampling).
   std::optional<double> tolerance;
   bool show_progress = true;
-  bool float64 = false;  // GeoTIFF bands in Float64 rather than Float32
+  bool float64 = false;                // GeoTIFF bands in Float64 rather than Float32
+  std::optional<std::string> crs_out;  // GeoTIFF: warp into this CRS (EPSG:XXXX, ...)
 };
 
 struct FieldReport {

@@ -6,10 +6,12 @@
 
 #include <cpl_error.h>
 #include <gdal_priv.h>
+#include <gdal_utils.h>
 #include <ogr_spatialref.h>
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 
 namespace sage::output {
@@ -93,6 +95,22 @@ GDALDatasetUniquePtr memory_raster(const std::string& path, const FieldSamples& 
   return raster;
 }
 
+/// `source` warped into the CRS `wkt` (bilinear; GDAL picks the pixel
+/// size), with its band descriptions, nodata and metadata.
+GDALDatasetUniquePtr warped(const std::string& path, GDALDataset& source, const std::string& wkt) {
+  CPLStringList arguments;
+  for (const char* argument : {"-t_srs", wkt.c_str(), "-r", "bilinear", "-of", "MEM"}) arguments.AddString(argument);
+  std::unique_ptr<GDALWarpAppOptions, decltype(&GDALWarpAppOptionsFree)> warp(
+      GDALWarpAppOptionsNew(arguments.List(), nullptr), GDALWarpAppOptionsFree);
+  GDALDatasetH handle = GDALDataset::ToHandle(&source);
+  GDALDatasetUniquePtr out(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &handle, warp.get(), nullptr)));
+  if (!warp || !out) throw OutputError(path + ": GDAL could not warp the raster: " + gdal_message());
+  for (int b = 1; b <= source.GetRasterCount(); ++b)
+    out->GetRasterBand(b)->SetDescription(source.GetRasterBand(b)->GetDescription());
+  out->SetMetadata(source.GetMetadata());
+  return out;
+}
+
 }  // namespace
 
 bool is_geotiff_path(const std::string& path) { return ends_with(path, ".tif") || ends_with(path, ".tiff"); }
@@ -101,6 +119,20 @@ std::vector<std::string> geotiff_band_names(const FieldSamples& samples) {
   std::vector<std::string> names;
   for (const Band& b : bands_of(samples)) names.push_back(b.name);
   return names;
+}
+
+std::string crs_wkt_from(const std::string& text) {
+  const CPLErrorHandlerPusher quiet(CPLQuietErrorHandler);
+  OGRSpatialReference srs;
+  char* wkt = nullptr;
+  const char* const options[] = {"FORMAT=WKT2_2019", nullptr};
+  if (srs.SetFromUserInput(text.c_str()) != OGRERR_NONE || srs.exportToWkt(&wkt, options) != OGRERR_NONE) {
+    CPLFree(wkt);
+    throw OutputError(text + ": PROJ does not know this coordinate reference system (" + gdal_message() + ")");
+  }
+  std::string out = wkt;
+  CPLFree(wkt);
+  return out;
 }
 
 std::string crs_name(const std::string& wkt) {
@@ -115,7 +147,10 @@ void write_geotiff(const std::string& path, const FieldSamples& samples, const G
   std::call_once(registered, [] { GDALAllRegister(); });
   const CPLErrorHandlerPusher quiet(CPLQuietErrorHandler);
   CPLErrorReset();
-  const GDALDatasetUniquePtr raster = memory_raster(path, samples, options);
+  if (!options.warp_to_wkt.empty() && options.crs_wkt.empty())
+    throw OutputError(path + ": the field has no coordinate reference system to warp from");
+  GDALDatasetUniquePtr raster = memory_raster(path, samples, options);
+  if (!options.warp_to_wkt.empty()) raster = warped(path, *raster, options.warp_to_wkt);
   // COG: tiles, DEFLATE with the floating-point predictor (smaller for
   // smooth fields), overviews for QGIS's zoomed-out views.
   const char* const cog_options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "NUM_THREADS=ALL_CPUS", nullptr};

@@ -12,8 +12,13 @@
 #include <gtest/gtest.h>
 #include <geotiff_file.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <memory>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -146,6 +151,75 @@ TEST(CliGeoTiff, ResolutionSetsThePixelSize) {
   EXPECT_DOUBLE_EQ(spacing[1], 0.5);
 }
 
+/// The smallest and largest values of `band` at the pixels whose centres
+/// are within `reach` pixels of (x, y) in `file`'s CRS; NaN when one of
+/// them is outside or nodata.
+std::pair<double, double> neighbour_range(const sage::test::GeoTiffFile& file, std::size_t band, double x, double y,
+                                          int reach) {
+  const double u = (x - file.transform[0]) / file.transform[1] - 0.5;
+  const double v = (y - file.transform[3]) / file.transform[5] - 0.5;
+  const int i0 = static_cast<int>(std::floor(u)), j0 = static_cast<int>(std::floor(v));
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int j = j0 - reach + 1; j <= j0 + reach; ++j)
+    for (int i = i0 - reach + 1; i <= i0 + reach; ++i) {
+      const double value = i >= 0 && j >= 0 && i < file.width && j < file.height ? file.at(band, i, j) : std::nan("");
+      if (std::isnan(value)) return {std::nan(""), std::nan("")};
+      lo = std::min(lo, value);
+      hi = std::max(hi, value);
+    }
+  return {lo, hi};
+}
+
+// --crs-out EPSG:4326: the lake's raster warped into longitude/latitude.
+// Each pixel's value is a bilinear blend of the UTM raster's pixels around
+// the same place (GDAL's warp places its samples within a pixel, so the
+// check allows the 4 x 4 pixels around it; most are blends, not copies of
+// one pixel as the nearest neighbour's would be), and the summary says the
+// field was evaluated in UTM and resampled.
+TEST(CliGeoTiff, CrsOutWarpsTheRasterBilinearly) {
+  const std::string lake =
+      test_data("gis/lake_vanern_se_osm_EPSG32633.geojson") + " --grid 80x60 --exact --float64 --order 0";
+  const fs::path utm = scratch("lake_utm.tif"), lonlat = scratch("lake_lonlat.tif");
+  ASSERT_EQ(run("field " + lake + " -q -o " + utm.string()).exit_code, 0);
+  const Result r = run("field " + lake + " --crs-out EPSG:4326 -o " + lonlat.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warped (bilinear) into WGS 84: the field was evaluated in the plane where it was built, "
+                          "WGS 84 / UTM zone 33N, and resampled"),
+            std::string::npos)
+      << r.output;
+  const auto source = read_geotiff(utm.string()), target = read_geotiff(lonlat.string());
+  ASSERT_TRUE(target.crs);
+  EXPECT_STREQ(target.crs->GetAuthorityCode(nullptr), "4326");
+  ASSERT_EQ(target.bands.size(), 1u);
+  EXPECT_EQ(target.bands[0].description, "omega");
+  OGRSpatialReference from, to;
+  from.importFromEPSG(4326);
+  to.importFromEPSG(32633);
+  from.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  to.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  const std::unique_ptr<OGRCoordinateTransformation> transform(OGRCreateCoordinateTransformation(&from, &to));
+  ASSERT_TRUE(transform);
+  const std::set<double> source_values(source.bands[0].values.begin(), source.bands[0].values.end());
+  int checked = 0, inside = 0, copies = 0;
+  for (int row = 0; row < target.height; ++row)
+    for (int column = 0; column < target.width; ++column) {
+      const double value = target.at(0, column, row);
+      double x = target.transform[0] + (column + 0.5) * target.transform[1];
+      double y = target.transform[3] + (row + 0.5) * target.transform[5];
+      ASSERT_TRUE(transform->Transform(1, &x, &y));
+      const auto [lo, hi] = neighbour_range(source, 0, x, y, 2);
+      if (std::isnan(value) || std::isnan(lo)) continue;  // at the edge of the UTM raster's footprint
+      ++checked;
+      inside += value > 0;
+      copies += source_values.count(value) > 0;
+      EXPECT_GE(value, lo - 1e-9 * std::abs(lo)) << "pixel " << column << ", " << row;
+      EXPECT_LE(value, hi + 1e-9 * std::abs(hi)) << "pixel " << column << ", " << row;
+    }
+  EXPECT_GT(checked, 80 * 60 / 2);
+  EXPECT_GT(inside, 0);  // the lake is there
+  EXPECT_LT(copies, checked / 2);
+}
+
 TEST(CliGeoTiff, MisuseExitsWithTwo) {
   const std::string plane =
       write_file("plane2.json", R"({"dimension": 2, "field": {"formula": "x"}})") + " --bounds 0,1,0,1 -q -o ";
@@ -163,6 +237,11 @@ TEST(CliGeoTiff, MisuseExitsWithTwo) {
   expect_usage("field " + plane + scratch("a.tif").string() + " --resolution 0", "--resolution 0");
   expect_usage("field " + plane + scratch("a.tif").string() + " --resolution 1e-6", "over 100000 points");
   expect_usage("field " + plane + scratch("a.png").string(), ".vtu, .vti or .tif");
+  expect_usage("field " + plane + scratch("a.vti").string() + " --crs-out EPSG:4326", "--crs-out is for GeoTIFF");
+  expect_usage("field " + plane + scratch("a.tif").string() + " --crs-out EPSG:4326", "no coordinate reference system");
+  expect_usage("field " + test_data("gis/lake_vanern_se_osm.geojson") + " -q --crs-out EPSG:99999 -o " +
+                   scratch("a.tif").string(),
+               "--crs-out EPSG:99999");
 }
 
 }  // namespace

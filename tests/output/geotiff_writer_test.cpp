@@ -152,4 +152,34 @@ TEST(GeoTiffWriter, KeepsTheCoordinateReferenceSystem) {
   EXPECT_EQ(sage::output::crs_name(""), "");
 }
 
+// --crs-out: the raster warped into another CRS keeps its bands' names,
+// nodata and metadata; a field without a CRS or an unknown CRS is refused.
+TEST(GeoTiffWriter, WarpsIntoAnotherCrs) {
+  sage::Grid grid;  // 2 km around a point of southern Sweden in UTM 33N
+  grid.lo = {400000, 6500000, 0};
+  grid.hi = {402000, 6502000, 0};
+  grid.points = {21, 21, 1};
+  const sage::Tape tape(sage::parse_formula("x - 400000", 2), 2);
+  const auto s = sage::sample_field(tape, grid, 1);
+  const std::string path = temp_path("warped.tif");
+  sage::output::write_geotiff(path, s, {utm33_wkt(), false, sage::output::crs_wkt_from("EPSG:4326")});
+  const auto tif = read_geotiff(path);
+  ASSERT_TRUE(tif.crs);
+  EXPECT_STREQ(tif.crs->GetAuthorityCode(nullptr), "4326");
+  EXPECT_NEAR(tif.transform[0], 13.3, 0.1);   // degrees east
+  EXPECT_NEAR(tif.transform[3], 58.65, 0.1);  // degrees north
+  ASSERT_EQ(tif.bands.size(), 4u);
+  EXPECT_EQ(tif.bands[3].description, "grad_norm");
+  EXPECT_TRUE(tif.bands[0].has_nodata && std::isnan(tif.bands[0].nodata));
+  EXPECT_EQ(tif.metadata.at("evaluation"), "exact");
+  // omega = x - 400000 grows eastward, from 0 to 2000 m.
+  const double west = tif.at(0, tif.width / 4, tif.height / 2), east = tif.at(0, 3 * tif.width / 4, tif.height / 2);
+  EXPECT_GT(west, 0.0);
+  EXPECT_LT(east, 2000.0);
+  EXPECT_GT(east - west, 500.0);
+  EXPECT_THROW(sage::output::write_geotiff(path, s, {"", false, sage::output::crs_wkt_from("EPSG:4326")}),
+               sage::output::OutputError);
+  EXPECT_THROW(sage::output::crs_wkt_from("EPSG:99999"), sage::output::OutputError);
+}
+
 }  // namespace

@@ -10,6 +10,11 @@
 // So each pixel is centred on its grid point: the geotransform's origin is
 // the first grid point minus half a pixel, and rows run north-up (the
 // first row holds the grid's largest y).
+//
+// Another CRS on request (warp_to_wkt): the raster above is warped with
+// GDAL (bilinear) into it. The field is still evaluated in the plane where
+// it was built: values are resampled, and grad_omega_x/y stay that
+// plane's components.
 
 #include <sage/sampling/field_samples.hpp>
 
@@ -19,8 +24,9 @@
 namespace sage::output {
 
 struct GeoTiffOptions {
-  std::string crs_wkt;   // the plane's coordinate reference system (WKT); empty: none is written
-  bool float64 = false;  // Float64 bands in place of Float32
+  std::string crs_wkt;      // the plane's coordinate reference system (WKT); empty: none is written
+  bool float64 = false;     // Float64 bands in place of Float32
+  std::string warp_to_wkt;  // non-empty: write the raster warped into this CRS (needs crs_wkt)
 };
 
 /// True if `path` ends in .tif or .tiff.
@@ -28,6 +34,10 @@ bool is_geotiff_path(const std::string& path);
 
 /// The band descriptions write_geotiff gives `samples`, in band order.
 std::vector<std::string> geotiff_band_names(const FieldSamples& samples);
+
+/// The WKT of a CRS as users write it (EPSG:XXXX, a PROJ string, WKT).
+/// Throws OutputError when PROJ does not know it.
+std::string crs_wkt_from(const std::string& text);
 
 /// The name GDAL gives a coordinate reference system written as WKT (for
 /// summaries); empty when `wkt` is empty or not understood.
