@@ -96,7 +96,8 @@ GDALDatasetUniquePtr memory_raster(const std::string& path, const FieldSamples& 
 }
 
 /// `source` warped into the CRS `wkt` (bilinear; GDAL picks the pixel
-/// size), with its band descriptions, nodata and metadata.
+/// size). GDALWarp carries a single source's band descriptions, nodata
+/// and metadata over (the tests check it).
 GDALDatasetUniquePtr warped(const std::string& path, GDALDataset& source, const std::string& wkt) {
   CPLStringList arguments;
   for (const char* argument : {"-t_srs", wkt.c_str(), "-r", "bilinear", "-of", "MEM"}) arguments.AddString(argument);
@@ -105,9 +106,6 @@ GDALDatasetUniquePtr warped(const std::string& path, GDALDataset& source, const 
   GDALDatasetH handle = GDALDataset::ToHandle(&source);
   GDALDatasetUniquePtr out(GDALDataset::FromHandle(GDALWarp("", nullptr, 1, &handle, warp.get(), nullptr)));
   if (!warp || !out) throw OutputError(path + ": GDAL could not warp the raster: " + gdal_message());
-  for (int b = 1; b <= source.GetRasterCount(); ++b)
-    out->GetRasterBand(b)->SetDescription(source.GetRasterBand(b)->GetDescription());
-  out->SetMetadata(source.GetMetadata());
   return out;
 }
 
