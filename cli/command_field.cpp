@@ -22,7 +22,7 @@ int run_field(const std::vector<std::string>& args) {
       "Samples the model's field and its derivatives on a regular grid and writes\n"
       "point arrays omega, grad_omega, grad_norm (and d<k>_omega for --order k >= 2;\n"
       "omega alone for --order 0). A 2D field also goes to a GeoTIFF (.tif) for QGIS\n"
-      "and GDAL: one band per array, in the coordinate system the field was built in.\n\n"
+      "and GDAL: a band per component, in the coordinate system the field was built in.\n\n"
       "Options");
   auto add = options.add_options();
   add("help,h", "show this help");
@@ -30,8 +30,8 @@ int run_field(const std::vector<std::string>& args) {
   add("grid", po::value(&grid), "points per axis: 200x200 (2D, default) or 64x64x64 (3D, default)");
   double resolution = 0.0;
   add("resolution", po::value(&resolution),
-      "in place of --grid: the distance between grid points (a GeoTIFF's pixel size), in the model's units "
-      "(metres for GIS data)");
+      "in place of --grid: the distance between grid points (a GeoTIFF's pixel size), in the units of the "
+      "model's plane (metres for longitude/latitude data, which sage projects)");
   add("float64", "GeoTIFF: Float64 bands (default Float32)");
   std::string crs_out;
   add("crs-out", po::value(&crs_out),

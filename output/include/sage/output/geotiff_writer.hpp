@@ -1,8 +1,8 @@
 #pragma once
 // Writing a 2D field's samples as a GeoTIFF that QGIS and GDAL open
 // directly, with GDAL's COG driver (Cloud Optimized GeoTIFF: tiled,
-// DEFLATE-compressed, with overviews). One band per array, named by its
-// band description as the .vti arrays are named: omega, grad_omega_x,
+// DEFLATE-compressed, with overviews). One band per array component,
+// named by its band description as the .vti arrays are named: omega, grad_omega_x,
 // grad_omega_y, grad_norm, then d<k>_omega_<partial> (d2_omega_xx, ...).
 //
 // Georeferencing: sage's samples are values at grid points, a raster
@@ -44,7 +44,7 @@ std::string crs_wkt_from(const std::string& text);
 std::string crs_name(const std::string& wkt);
 
 /// Writes the samples of a 2D grid to `path` (atomically, as every
-/// writer): one band per array, non-finite values as nodata (NaN). Throws
+/// writer): one band per array component, non-finite values as nodata (NaN). Throws
 /// OutputError naming the path for a 3D grid or when GDAL cannot write.
 void write_geotiff(const std::string& path, const FieldSamples& samples, const GeoTiffOptions& options = {});
 
