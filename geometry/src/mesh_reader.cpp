@@ -11,10 +11,12 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <system_error>
 
 namespace sage::geometry::mesh {
 
@@ -91,14 +93,19 @@ std::vector<Triangle> triangulate_polygon(const Soup& soup, const std::vector<st
   return out;
 }
 
-// The whole file.
+// The whole file, read to its size (a stream copy would hide a read error,
+// and a folder named x.off would read as an empty file).
 std::string read_file(const std::string& path) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error)) fail(path, "not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error) fail(path, "cannot read the file's size: " + error.message());
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open the file");
-  std::ostringstream data;
-  data << in.rdbuf();
-  if (in.bad()) fail(path, "cannot read the file");
-  return std::move(data).str();
+  std::string data(static_cast<std::size_t>(size), '\0');
+  in.read(data.data(), static_cast<std::streamsize>(size));
+  if (static_cast<std::uintmax_t>(in.gcount()) != size) fail(path, "cannot read the file");
+  return data;
 }
 
 // The file's points and polygons: OFF and PLY with sage's readers, STL and

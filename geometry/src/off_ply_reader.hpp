@@ -13,7 +13,10 @@
 
 #include "mesh_internal.hpp"
 
+#include <locale.h>
+#include <stdlib.h>
 #include <charconv>
+#include <clocale>
 #include <cstdint>
 #include <cstdlib>
 #include <optional>
@@ -82,9 +85,11 @@ std::optional<T> parse(std::string_view token) {
   if (ptr != end) return std::nullopt;
   if constexpr (std::is_floating_point_v<T>) {
     if (ec == std::errc::result_out_of_range) {  // from_chars leaves value as it was
+      // strtod in the C locale (a host program's locale may use a decimal comma).
+      static const locale_t c_locale = newlocale(LC_ALL_MASK, "C", static_cast<locale_t>(nullptr));
       const std::string copy(token);
-      return static_cast<T>(std::is_same_v<T, float> ? std::strtof(copy.c_str(), nullptr)
-                                                     : std::strtod(copy.c_str(), nullptr));
+      return static_cast<T>(std::is_same_v<T, float> ? strtof_l(copy.c_str(), nullptr, c_locale)
+                                                     : strtod_l(copy.c_str(), nullptr, c_locale));
     }
   }
   if (ec != std::errc()) return std::nullopt;

@@ -91,17 +91,17 @@ Counts read_header(const std::string& path, Lines& lines) {
     if (i == 1) counts.faces = static_cast<std::size_t>(*n);
   }
   // What the rest of the file can hold: a vertex line takes at least 6
-  // bytes ("0 0 0\n"), a face line 8 ("3 0 1 2\n"); the last line may lack
-  // its newline.
+  // bytes ("0 0 0\n"), a face line 2 ("0\n", a degenerate face --repair
+  // drops); the last line may lack its newline.
   const std::size_t room = lines.bytes_left() + 1;
   if (counts.vertices > room / 6)
     fail(path, lines.at() + "the header's " + std::to_string(counts.vertices) + " vertices cannot fit in the " +
                    std::to_string(lines.bytes_left()) + " bytes that follow it (a vertex line takes at least 6)");
-  if (counts.faces > (room - 6 * counts.vertices) / 8)
+  if (counts.faces > (room - 6 * counts.vertices) / 2)
     fail(path, lines.at() + "the header's " + std::to_string(counts.faces) + " faces (after " +
                    std::to_string(counts.vertices) + " vertices) cannot fit in the " +
                    std::to_string(lines.bytes_left()) +
-                   " bytes that follow it (a vertex line takes at least 6 bytes, a face line 8)");
+                   " bytes that follow it (a vertex line takes at least 6 bytes, a face line 2)");
   return counts;
 }
 
@@ -137,7 +137,8 @@ std::vector<std::size_t> read_face(const std::string& path, Lines& lines, std::s
     fail(path, "the file ends after " + std::to_string(f) + " of its " + std::to_string(counts.faces) + " faces");
   const auto n = reader::parse<std::int64_t>(tokens[0]);
   if (!n) fail(path, lines.at() + what + ": its vertex count " + shown(tokens[0]) + " is not an integer");
-  if (*n < 3) fail(path, lines.at() + what + " has " + std::to_string(*n) + " vertices (at least 3 are needed)");
+  // Faces of 0 to 2 vertices pass: --repair drops them, else read_mesh_soup refuses them.
+  if (*n < 0) fail(path, lines.at() + what + " has " + std::to_string(*n) + " vertices (at least 3 are needed)");
   // The line holds the indices: its length bounds the allocation.
   if (static_cast<std::uint64_t>(*n) > tokens.size() - 1)
     fail(path, lines.at() + what + " has " + std::to_string(*n) + " vertices, but its line holds only " +
@@ -164,7 +165,7 @@ PolygonSoup read_off(const std::string& path, std::string_view data) {
   const Counts counts = read_header(path, lines);
   PolygonSoup soup;
   soup.points.reserve(counts.vertices);  // bounded by the file's size (read_header)
-  soup.polygons.reserve(counts.faces);
+  soup.polygons.reserve(std::min<std::size_t>(counts.faces, lines.bytes_left() / 8));  // a triangle's line: 8 bytes
   std::vector<std::string_view> tokens;
   for (std::size_t v = 0; v < counts.vertices; ++v) soup.points.push_back(read_vertex(path, lines, v, counts, tokens));
   for (std::size_t f = 0; f < counts.faces; ++f) soup.polygons.push_back(read_face(path, lines, f, counts, tokens));

@@ -56,11 +56,11 @@ constexpr TypeInfo kTypes[] = {
 const TypeInfo& info(Type t) { return kTypes[static_cast<int>(t)]; }
 bool is_integer(Type t) { return t != Type::Float32 && t != Type::Float64; }
 /// "an int", "a float".
-std::string a(Type t) { return (t == Type::Int32 ? "an " : "a ") + std::string(info(t).name); }
+std::string type_with_article(Type t) { return (t == Type::Int32 ? "an " : "a ") + std::string(info(t).name); }
 
 struct Property {
   std::string name;
-  Type type = Type::Float64;      // a list's item type
+  Type type = Type::Float64;      // the value's type (a list's: its items')
   std::optional<Type> list_size;  // a list: the type of its size
 };
 
@@ -189,7 +189,8 @@ class Data {
   Data(const std::string& path, std::string_view data, const Header& h)
       : path_(path), data_(data), format_(h.format), pos_(h.data), line_(h.lines + 1), start_(h.data) {}
 
-  void at(std::string_view what, std::uint64_t number) {
+  /// The item the values read next belong to, for messages.
+  void set_item(std::string_view what, std::uint64_t number) {
     what_ = what;
     number_ = number;
   }
@@ -229,7 +230,7 @@ class Data {
     while (pos_ < data_.size() && reader::is_space(data_[pos_])) line_ += data_[pos_++] == '\n';
     start_ = pos_;
     while (pos_ < data_.size() && !reader::is_space(data_[pos_])) ++pos_;
-    if (pos_ == start_) fail("the file ends where " + a(type) + " was expected");
+    if (pos_ == start_) fail("the file ends where " + type_with_article(type) + " was expected");
     return data_.substr(start_, pos_ - start_);
   }
 
@@ -253,8 +254,8 @@ class Data {
     const std::size_t size = info(type).size;
     start_ = pos_;
     if (data_.size() - pos_ < size)
-      fail("the file ends in the middle of " + a(type) + " (" + std::to_string(data_.size() - pos_) + " of its " +
-           std::to_string(size) + " bytes)");
+      fail("the file ends in the middle of " + type_with_article(type) + " (" + std::to_string(data_.size() - pos_) +
+           " of its " + std::to_string(size) + " bytes)");
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, size);
     pos_ += size;
@@ -283,7 +284,7 @@ class Data {
   std::string_view data_;
   Format format_;
   std::size_t pos_, line_, start_;  // start_: of the value last read
-  std::string_view what_ = "element";
+  std::string what_ = "element";    // a copy: the caller's name may not outlive the item
   std::uint64_t number_ = 0;
 };
 
@@ -344,8 +345,8 @@ std::uint64_t read_list_size(Data& in, const Property& p) {
 }
 
 std::vector<std::size_t> read_polygon(Data& in, const Property& p, std::uint64_t vertices) {
+  // Faces of 0 to 2 vertices pass: --repair drops them, else read_mesh_soup refuses them.
   const std::uint64_t n = read_list_size(in, p);
-  if (n < 3) in.fail("a face of " + std::to_string(n) + " vertices (at least 3 are needed)");
   std::vector<std::size_t> polygon(static_cast<std::size_t>(n));
   for (std::size_t& v : polygon) {
     const double index = in.read(p.type);
@@ -372,9 +373,9 @@ void read_element(const std::string& path, const Element& e, Data& in, std::uint
   double xyz[3] = {0, 0, 0};
   std::vector<std::size_t> polygon;
   for (std::size_t i = 0; i < count; ++i) {
-    if (role.kind == Role::Vertex) in.at("vertex", soup.points.size());
-    if (role.kind == Role::Face) in.at("face", soup.polygons.size());
-    if (role.kind == Role::Other) in.at(item, i);
+    if (role.kind == Role::Vertex) in.set_item("vertex", soup.points.size());
+    if (role.kind == Role::Face) in.set_item("face", soup.polygons.size());
+    if (role.kind == Role::Other) in.set_item(item, i);
     for (std::size_t k = 0; k < e.properties.size(); ++k) {
       const Property& p = e.properties[k];
       if (role.kind == Role::Face && k == role.indices) {
