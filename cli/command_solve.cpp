@@ -66,7 +66,7 @@ void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& 
   if (r.neumann_compatibility)
     std::printf("  pure Neumann: compatibility defect %.1e (relative), mean of u fixed to 0\n",
                 *r.neumann_compatibility);
-  if (r.l2_error) std::printf("  relative errors: L2 %.3e, H1 seminorm %.3e\n", *r.l2_error, *r.h1_error);
+  if (r.l2_error && r.h1_error) std::printf("  relative errors: L2 %.3e, H1 seminorm %.3e\n", *r.l2_error, *r.h1_error);
   std::printf(
       "  seconds: field %.3f, classification %.3f, quadrature %.3f, assembly %.3f, solve %.3f, condition %.3f, "
       "errors %.3f, output %.3f\n",

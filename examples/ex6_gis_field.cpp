@@ -91,7 +91,9 @@ int main(int argc, char** argv) {
     output::write_field(argv[2], samples);
     std::printf("wrote %s\n", argv[2]);
     const bool normalized = worst_value <= 1e-9 * diagonal && worst_gradient <= 1e-9;
-    return normalized && worst_sample <= far_field.tolerance && wrong_signs == 0 ? 0 : 1;
+    // A coast of many edges is sampled by far-field patches by default.
+    const bool patches = plan.evaluation == SamplingPlan::Evaluation::FarField;
+    return patches && normalized && worst_sample <= far_field.tolerance && wrong_signs == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ex6_gis_field: %s\n", e.what());
     return 1;

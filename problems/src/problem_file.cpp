@@ -97,26 +97,25 @@ class Reader : geometry::JsonFields<ProblemError> {
   }
 
   void read_bounds(const Json& top) {
-    solver::ProblemDomain& p = domain_;
-    const int d = p.dimension;
+    const int d = domain_.dimension;
     if (top.contains("bounds")) {
       const Json& b = top["bounds"];
       if (!b.is_object() || !b.contains("min") || !b.contains("max"))
         fail("/bounds", "expected { \"min\": [...], \"max\": [...] }");
       for (const char* key : {"min", "max"}) {
         const Json& v = b[key];
-        (key[1] == 'i' ? p.min : p.max) = point(v, std::string("/bounds/") + key, d);
+        (key[1] == 'i' ? domain_.min : domain_.max) = point(v, std::string("/bounds/") + key, d);
       }
     } else if (out_.model.bounds) {
       for (int a = 0; a < d; ++a) {
-        p.min[a] = out_.model.bounds->min[a];
-        p.max[a] = out_.model.bounds->max[a];
+        domain_.min[a] = out_.model.bounds->min[a];
+        domain_.max[a] = out_.model.bounds->max[a];
       }
     } else {
       fail("/bounds", "the domain model has no bounds: give \"bounds\": { \"min\": [...], \"max\": [...] }");
     }
     for (int a = 0; a < d; ++a)
-      if (!(p.max[a] > p.min[a])) fail("/bounds", "max must exceed min on every axis");
+      if (!(domain_.max[a] > domain_.min[a])) fail("/bounds", "max must exceed min on every axis");
   }
 
   /// A vector of dimension-many formulas or numbers.

@@ -54,10 +54,11 @@ BoundaryStructure boundary_structure(const BoundarySplit& split, const std::arra
   } else if (!rest_weak && !s.rest_must_be_empty) {
     if (s.has_weak_parts)
       throw std::invalid_argument(
-          std::string("with Neumann or Robin parts the default boundary condition must not be Dirichlet") +
+          std::string("with parts of weak conditions (Neumann, Robin, traction) the default boundary condition must "
+                      "not be Dirichlet (a prescribed value)") +
           (split.rest_given ? "" : " (without a \"default\", the boundary no named part claims is Dirichlet u = 0)") +
-          ": name the Dirichlet parts and give the default the weak condition");
-    s.dirichlet_weight = split.domain;
+          ": name the parts of prescribed values and give the default the weak condition");
+    s.dirichlet_weight = split.field;
     bool uniform = true;
     for (const Expr& value : dirichlet_values) uniform = uniform && same_expression(value, *split.rest.value);
     // Data given piece by piece: interpolate between the named pieces.

@@ -1,22 +1,13 @@
 #include "data_check.hpp"
 
+#include "message_text.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <utility>
 
 namespace sage::solver {
-
-namespace {
-
-std::string number_text(double x) {
-  if (std::isnan(x)) return "NaN";
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", x);
-  return text;
-}
-
-}  // namespace
 
 DataError::DataError(std::string datum, double value, const std::optional<std::array<double, 3>>& point, int dimension,
                      const std::string& requirement)
@@ -25,10 +16,10 @@ DataError::DataError(std::string datum, double value, const std::optional<std::a
         if (point) {
           where = " at (";
           for (int a = 0; a < dimension; ++a)
-            where += (a ? ", " : "") + number_text((*point)[static_cast<std::size_t>(a)]);
+            where += (a ? ", " : "") + number_text((*point)[static_cast<std::size_t>(a)], 6);
           where += ")";
         }
-        return datum + " is " + number_text(value) + where + ": " + requirement;
+        return datum + " is " + number_text(value, 6) + where + ": " + requirement;
       }()),
       datum_(std::move(datum)),
       value_(value),
@@ -59,21 +50,22 @@ std::string breach(DataNeed need, double value, double robin_scale) {
     return "every datum must be finite wherever the solver reads it (the domain for volume data, its part of the "
            "boundary for boundary data)";
   if (std::abs(value) > kLargestDatum)
-    return "a datum's magnitude must stay below " + number_text(kLargestDatum) +
+    return "a datum's magnitude must stay below " + number_text(kLargestDatum, 6) +
            " (beyond it, the assembly's products overflow double precision): change the units";
   switch (need) {
     case DataNeed::Positive:
       if (!(value >= kSmallestModulus))
         return "the conductivity must be positive everywhere in the domain (where k <= 0, -div(k grad u) = f is "
                "not elliptic and the system has no positive definite matrix; below " +
-               number_text(kSmallestModulus) + " the stiffness underflows)";
+               number_text(kSmallestModulus, 6) + " the stiffness underflows)";
       break;
     case DataNeed::RobinCoefficient:
       if (value < 0.0)
         return "a Robin coefficient must not be negative (with beta < 0 the problem is not coercive: its solution "
                "need not exist or be unique)";
       if (value * robin_scale > kLargestBiotNumber)
-        return "beta h / k is " + number_text(value * robin_scale) + " here, above " + number_text(kLargestBiotNumber) +
+        return "beta h / k is " + number_text(value * robin_scale, 6) + " here, above " +
+               number_text(kLargestBiotNumber, 6) +
                ": the Robin condition is u = flux / beta to rounding and the system is singular in double "
                "precision (give a Dirichlet condition instead)";
       break;

@@ -1,6 +1,6 @@
 #include "discretization.hpp"
 
-#include "stage_timer.hpp"
+#include "message_text.hpp"
 
 #include <sage/solver/gauss.hpp>
 #include <sage/solver/local_splines.hpp>

@@ -3,6 +3,7 @@
 #include "discretization.hpp"
 #include "elasticity_assembly.hpp"
 #include "linear_solve.hpp"
+#include "message_text.hpp"
 #include "stage_timer.hpp"
 
 #include <sage/solver/boundary_structure.hpp>
@@ -46,7 +47,7 @@ void check_problem(const ElasticityProblem& problem) {
 BoundarySplit component_split(const ElasticityProblem& problem, int c) {
   BoundarySplit split;
   split.dimension = problem.domain.dimension;
-  split.domain = problem.domain.field;
+  split.field = problem.domain.field;
   auto part = [c](const ElasticPart& given) {
     return BoundarySplit::Part{given.name, given.selector, given.displacement[static_cast<std::size_t>(c)]};
   };

@@ -1,6 +1,6 @@
 #include "linear_solve.hpp"
 
-#include "stage_timer.hpp"
+#include "message_text.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>

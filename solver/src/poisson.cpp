@@ -1,6 +1,7 @@
 #include "data_check.hpp"
 #include "discretization.hpp"
 #include "linear_solve.hpp"
+#include "message_text.hpp"
 #include "poisson_assembly.hpp"
 #include "stage_timer.hpp"
 

@@ -4,7 +4,7 @@
 #include <sage/solver/tensor_cell_stiffness.hpp>
 
 #include "cell_loop.hpp"
-#include "stage_timer.hpp"
+#include "message_text.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -17,7 +17,7 @@ BoundarySplit::Part split_part(const BoundaryPart& part) {
 BoundarySplit boundary_split(const PoissonProblem& problem) {
   BoundarySplit split;
   split.dimension = problem.domain.dimension;
-  split.domain = problem.domain.field;
+  split.field = problem.domain.field;
   for (const BoundaryPart& part : problem.parts) split.parts.push_back(split_part(part));
   split.rest = split_part(problem.rest);
   split.rest_given = problem.rest_given;

@@ -1,13 +1,10 @@
 #pragma once
-// Small helpers of the solvers' drivers: stage timing and message text.
+// The solvers' drivers' stage timing.
 
 #include <sage/solver/solver_options.hpp>
 
-#include <array>
 #include <chrono>
-#include <cstdio>
 #include <ctime>
-#include <string>
 
 namespace sage::solver {
 
@@ -30,25 +27,5 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
   std::clock_t cpu_start_ = std::clock();
 };
-
-/// x in %g style with `digits` significant digits, for messages.
-inline std::string number_text(double x, int digits = 3) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.*g", digits, x);
-  return text;
-}
-
-inline std::string scientific(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3e", x);
-  return text;
-}
-
-template <int D>
-std::string point_text(const std::array<double, D>& x) {
-  std::string text = "(";
-  for (int a = 0; a < D; ++a) text += (a ? ", " : "") + std::to_string(x[a]);
-  return text + ")";
-}
 
 }  // namespace sage::solver

@@ -715,7 +715,8 @@ TEST(CliSolve, BadInputNamesFileAndPlace) {
   const Result structure =
       run("solve " + mixed + " -o " + scratch("mixed.vtu").string() + " --cells 8 --dirichlet structure");
   EXPECT_EQ(structure.exit_code, 1) << structure.output;
-  EXPECT_NE(structure.output.find("the default boundary condition must not be Dirichlet"), std::string::npos)
+  EXPECT_NE(structure.output.find("the default boundary condition must not be Dirichlet (a prescribed value)"),
+            std::string::npos)
       << structure.output;
   // No default, and a named Dirichlet part that claims two points of the
   // rim only: the structure cannot know the rest's condition, and says where.

@@ -94,7 +94,7 @@ TEST(BoundaryStructure, TakesASplitOfAnyPhysics) {
   const PoissonProblem p = square_with_hole();
   BoundarySplit split;
   split.dimension = 2;
-  split.domain = p.domain.field;
+  split.field = p.domain.field;
   split.parts = {{"outer", p.parts[0].selector, Expr(1.0)}, {"hole", p.parts[1].selector, std::nullopt}};
   split.rest = {"default", Expr(0.0), std::nullopt};
   BoundaryStructure s = boundary_structure(split, {0.7, 0.0, 0.0});

@@ -48,7 +48,7 @@ struct FieldSamples {
 constexpr int kMaxSampleOrder = 6;
 
 /// The far-field tolerance `sage field` samples with where patches pay
-/// (far_field_pays in tape_specialization.hpp; plan_sampling in
+/// (far_field_pays in tape/far_field.hpp; plan_sampling in
 /// sampling_plan.hpp decides), as a fraction of the grid box's diagonal.
 /// far_field_bench measures it: up to 6 times faster at 1000^2 on
 /// polygons, the whole field within 3.2e-10, no sign changed.

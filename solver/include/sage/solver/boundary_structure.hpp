@@ -25,7 +25,7 @@ struct BoundarySplit {
     bool robin = false;         // weak with a Robin coefficient not 0 (no pure Neumann problem then)
   };
   int dimension = 2;
-  Expr domain;  // omega >= 0 inside: omega_D when the whole boundary is prescribed
+  Expr field;  // the domain's omega (>= 0 inside): omega_D when the whole boundary is prescribed
   std::vector<Part> parts;
   Part rest;  // the boundary no part claims
   /// False when the problem gives no condition for the rest

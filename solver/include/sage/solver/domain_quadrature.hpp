@@ -116,7 +116,7 @@ struct ClassifiedCell {
 template <int D>
 std::vector<ClassifiedCell> classify_cells(const DomainPieces& pieces, const BackgroundGrid<D>& grid);
 
-/// What the rules fell back on, summed over the calls of a ImplicitCellQuadrature.
+/// What the rules fell back on, summed over the calls of an ImplicitCellQuadrature.
 struct QuadratureCounts {
   std::size_t masked_boxes = 0;        // sub-boxes integrated by sign-masked Gauss points
   std::size_t masked_points = 0;       // volume points those produced
