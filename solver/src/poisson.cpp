@@ -405,6 +405,31 @@ void solve_and_spread(PoissonSolution<D>& solution, const PoissonSystem& poisson
 
 }  // namespace
 
+namespace {
+
+/// The trial functions and what the report says of them: the Dirichlet
+/// route, Nitsche's penalty, the Robin structure's band. Nitsche's trial
+/// functions are the WEB B-splines themselves: the structure's omega_D = 1
+/// and g~ = 0 then (boundary_structure()).
+TrialStructure poisson_trial(const PoissonProblem& problem, const BoundaryStructure& structure,
+                             const PoissonRoutes& routes, const SolverOptions& options, double h, SolveReport& report) {
+  report.dirichlet_route = routes.dirichlet == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
+  if (routes.weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, options.degree);
+  if (!routes.structured) return dirichlet_trial(structure);
+  report.robin_band = robin_band_width(options.robin_band, h, problem.domain.longest_side());
+  return robin_trial(problem, structure, *report.robin_band, options.robin_band_power);
+}
+
+/// The condition numbers of the system (lower triangle), plain and after Jacobi scaling.
+void estimate_system_condition(const Eigen::SparseMatrix<double>& lower, SolveReport& report) {
+  const ConditionEstimate estimate =
+      estimate_condition(Eigen::SparseMatrix<double>(lower.selfadjointView<Eigen::Lower>()));
+  report.condition = estimate.condition;
+  report.scaled_condition = estimate.scaled_condition;
+}
+
+}  // namespace
+
 template <int D>
 PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOptions& options) {
   const ProblemDomain& domain = given.domain;
@@ -436,15 +461,7 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   const PoissonRoutes routes = poisson_routes(problem, options);
   const BoundaryStructure structure =
       boundary_structure(boundary_split(problem), classified.interior, routes.dirichlet == DirichletRoute::Structure);
-  report.dirichlet_route = routes.dirichlet == DirichletRoute::Weak ? "weak (Nitsche)" : "structure";
-  if (routes.weak_dirichlet) report.nitsche_penalty = nitsche_penalty(options.nitsche_penalty, n);
-  const double longest = domain.longest_side();
-  if (routes.structured) report.robin_band = robin_band_width(options.robin_band, h, longest);
-  // Nitsche's trial functions are the WEB B-splines themselves: the
-  // structure's omega_D = 1 and g~ = 0 then (boundary_structure()).
-  const TrialStructure trial = routes.structured
-                                   ? robin_trial(problem, structure, *report.robin_band, options.robin_band_power)
-                                   : dirichlet_trial(structure);
+  const TrialStructure trial = poisson_trial(problem, structure, routes, options, h, report);
   const bool second = trial.second_function();
   const int band_points = inside_points + kBandExtraPoints;
   const QuadratureOptions band_quadrature{band_points + 1, band_points, options.max_subdivision, 0};
@@ -479,16 +496,14 @@ PoissonSolution<D> solve_poisson(const PoissonProblem& given, const SolverOption
   LinearSolverKind kind = options.linear_solver;
   if (kind == LinearSolverKind::Automatic && (second || D == 2))
     kind = second ? LinearSolverKind::Direct : LinearSolverKind::ConjugateGradient;
-  const double tolerance = options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(h, longest, n);
+  const double tolerance =
+      options.cg_tolerance > 0.0 ? options.cg_tolerance : automatic_cg_tolerance(h, domain.longest_side(), n);
   solve_and_spread(solution, poisson, assembly, structure.pure_neumann, kind, tolerance);
   timer.lap(&StageSeconds::solve);
 
   // Post-processing.
   if (options.estimate_condition) {
-    const ConditionEstimate estimate =
-        estimate_condition(Eigen::SparseMatrix<double>(poisson.matrix.selfadjointView<Eigen::Lower>()));
-    report.condition = estimate.condition;
-    report.scaled_condition = estimate.scaled_condition;
+    estimate_system_condition(poisson.matrix, report);
     timer.lap(&StageSeconds::condition);
   }
   if (problem.exact) {
