@@ -31,16 +31,7 @@ using namespace manufactured;
 /// Dirichlet data u + omega b on the whole boundary, with conductivity k.
 PoissonProblem variable_k_problem(const Expr& domain, const Expr& k, const Expr& exact, const Expr& bubble,
                                   std::array<double, 3> min, std::array<double, 3> max) {
-  PoissonProblem p;
-  p.domain.dimension = 2;
-  p.domain.field = domain;
-  p.domain.min = min;
-  p.domain.max = max;
-  p.conductivity = k;
-  p.source = manufactured_source(exact, k, 2);
-  p.exact = exact;
-  p.rest.value = exact + domain * bubble;
-  return p;
+  return conductivity_problem(domain, k, exact, exact + domain * bubble, min, max);
 }
 
 /// The square of half-side `half` about `centre`, turned by `angle`, as the

@@ -35,6 +35,23 @@ inline PoissonProblem dirichlet_problem(int dimension, const Expr& domain, const
   return p;
 }
 
+/// -div(k grad u) = f in 2D, u = `boundary_value` on the whole boundary
+/// (the rest), k and the exact solution given.
+inline PoissonProblem conductivity_problem(const Expr& domain, const Expr& k, const Expr& exact,
+                                           const Expr& boundary_value, std::array<double, 3> min,
+                                           std::array<double, 3> max) {
+  PoissonProblem p;
+  p.domain.dimension = 2;
+  p.domain.field = domain;
+  p.domain.min = min;
+  p.domain.max = max;
+  p.conductivity = k;
+  p.source = manufactured_source(exact, k, 2);
+  p.exact = exact;
+  p.rest.value = boundary_value;
+  return p;
+}
+
 struct RefinementRun {
   double h;
   SolveReport report;

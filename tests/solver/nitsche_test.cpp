@@ -40,16 +40,7 @@ Expr quadrilateral() {
 
 PoissonProblem dirichlet_on(const Expr& domain, const Expr& k, const Expr& exact, std::array<double, 3> min,
                             std::array<double, 3> max) {
-  PoissonProblem p;
-  p.domain.dimension = 2;
-  p.domain.field = domain;
-  p.domain.min = min;
-  p.domain.max = max;
-  p.conductivity = k;
-  p.source = manufactured_source(exact, k, 2);
-  p.exact = exact;
-  p.rest.value = exact;
-  return p;
+  return conductivity_problem(domain, k, exact, exact, min, max);
 }
 
 TEST(NitschePatchTest, SplineSpaceSolutionIsReproducedWeakly) {
