@@ -27,10 +27,6 @@ namespace sage::cli {
 
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 template <int D>
 void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& problem) {
   solver::PoissonSolution<D> solution;
@@ -129,8 +125,8 @@ void check_options(SolveCommand& command, const po::variables_map& vm, int cells
   if (vm.count("h")) command.h = h;
   command.quiet = vm.count("quiet") > 0;
   command.options.keep_quadrature = !command.quadrature_path.empty();
-  if (!ends_with(command.output_path, ".vtu")) throw UsageError{"-o " + command.output_path + ": must end in .vtu"};
-  if (!command.quadrature_path.empty() && !ends_with(command.quadrature_path, ".vtu"))
+  if (!command.output_path.ends_with(".vtu")) throw UsageError{"-o " + command.output_path + ": must end in .vtu"};
+  if (!command.quadrature_path.empty() && !command.quadrature_path.ends_with(".vtu"))
     throw UsageError{"--quadrature-points " + command.quadrature_path + ": must end in .vtu"};
   if (command.cells && command.h) throw UsageError{"give --cells or --h, not both"};
   if (command.options.degree < 1 || command.options.degree > solver::kMaxDegree)

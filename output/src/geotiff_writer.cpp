@@ -18,10 +18,6 @@ namespace sage::output {
 
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 /// One band: its values are values[i * stride] for grid point i.
 struct Band {
   std::string name;
@@ -111,7 +107,7 @@ GDALDatasetUniquePtr warped(const std::string& path, GDALDataset& source, const 
 
 }  // namespace
 
-bool is_geotiff_path(const std::string& path) { return ends_with(path, ".tif") || ends_with(path, ".tiff"); }
+bool is_geotiff_path(const std::string& path) { return path.ends_with(".tif") || path.ends_with(".tiff"); }
 
 std::vector<std::string> geotiff_band_names(const FieldSamples& samples) {
   std::vector<std::string> names;

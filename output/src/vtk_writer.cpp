@@ -23,10 +23,6 @@ namespace sage::output {
 
 namespace {
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && std::equal(suffix.rbegin(), suffix.rend(), s.rbegin());
-}
-
 vtkNew<vtkDoubleArray> make_array(const std::string& name, int components, const std::vector<double>& values) {
   vtkNew<vtkDoubleArray> a;
   a->SetName(name.c_str());
@@ -137,11 +133,11 @@ void write_with(const std::string& path, Data* data) {
 
 }  // namespace
 
-bool is_supported_field_path(const std::string& path) { return ends_with(path, ".vtu") || ends_with(path, ".vti"); }
+bool is_supported_field_path(const std::string& path) { return path.ends_with(".vtu") || path.ends_with(".vti"); }
 
 void write_field(const std::string& path, const FieldSamples& samples) {
   if (!is_supported_field_path(path)) throw OutputError(path + ": unsupported extension (use .vtu or .vti)");
-  if (ends_with(path, ".vti")) {
+  if (path.ends_with(".vti")) {
     auto data = image(samples);
     write_with<vtkXMLImageDataWriter>(path, data.GetPointer());
   } else {
