@@ -104,9 +104,9 @@ po::options_description solve_options(SolveCommand& command, int& cells, double&
   add("robin-band-power", po::value(&command.options.robin_band_power)->default_value(command.options.robin_band_power),
       "structure route: the power M of the cut-off (1 - omega_R / band)^M, M >= 2");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
-      "auto (cg in 2D; in 3D jacobi, then cg when jacobi would take over 4,000 iterations; direct for --robin "
-      "structure), direct (sparse LDLT), cg (conjugate gradients, incomplete Cholesky) or jacobi (conjugate "
-      "gradients, Jacobi)");
+      "auto (cg in 2D, schwarz in 3D, direct for --robin structure), direct (sparse LDLT), cg (conjugate "
+      "gradients, incomplete Cholesky), jacobi (conjugate gradients, Jacobi) or "
+      "schwarz (conjugate gradients, multilevel Schwarz on cell blocks)");
   add("tolerance", po::value(&command.options.cg_tolerance),
       "relative residual of conjugate gradients (default (h/L)^(degree+3) within [1e-12, 1e-6], L the "
       "box's longest side: below the discretization error)");
@@ -151,8 +151,10 @@ void check_options(SolveCommand& command, const po::variables_map& vm, int cells
     command.options.linear_solver = solver::LinearSolverKind::ConjugateGradient;
   } else if (command.linear_solver == "jacobi") {
     command.options.linear_solver = solver::LinearSolverKind::JacobiConjugateGradient;
+  } else if (command.linear_solver == "schwarz") {
+    command.options.linear_solver = solver::LinearSolverKind::Schwarz;
   } else {
-    throw UsageError{"--solver must be auto, direct, cg or jacobi, not '" + command.linear_solver + "'"};
+    throw UsageError{"--solver must be auto, direct, cg, jacobi or schwarz, not '" + command.linear_solver + "'"};
   }
 
   try {

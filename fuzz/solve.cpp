@@ -43,7 +43,8 @@ void solve(const std::uint8_t* data, std::size_t size) {
   const std::uint32_t hash = fnv1a(data, size);
   static const solver::LinearSolverKind kSolvers[] = {
       solver::LinearSolverKind::Automatic, solver::LinearSolverKind::Direct,
-      solver::LinearSolverKind::ConjugateGradient, solver::LinearSolverKind::JacobiConjugateGradient};
+      solver::LinearSolverKind::ConjugateGradient, solver::LinearSolverKind::JacobiConjugateGradient,
+      solver::LinearSolverKind::Schwarz};
   try {
     const problems::ProblemFile file = problems::read_problem_file(path);
     const solver::ProblemDomain& domain = file.domain();

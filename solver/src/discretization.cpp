@@ -371,6 +371,24 @@ StencilLayout<D>::StencilLayout(int degree) {
   for (int a = D - 1; a >= 0; --a) centre = centre * width + degree;
 }
 
+template <int D>
+SplinePlacement spline_placement(const SplineBasis<D>& basis, int components, std::size_t without_place) {
+  SplinePlacement placement;
+  placement.dimension = D;
+  placement.degree = basis.grid.degree;
+  for (int c = 0; c < components; ++c)
+    for (const std::size_t spline : basis.unknown_spline) {
+      const auto i = basis.grid.spline_index(basis.relevant[spline]);
+      std::array<int, 3> index{};
+      std::copy(i.begin(), i.end(), index.begin());
+      placement.index.push_back(index);
+      placement.component.push_back(c);
+    }
+  placement.index.resize(placement.index.size() + without_place, std::array<int, 3>{});
+  placement.component.resize(placement.component.size() + without_place, -1);
+  return placement;
+}
+
 #define SAGE_DISCRETIZATION(D)                                                                                         \
   template Box<D> cell_box<D>(const BackgroundGrid<D>&, std::size_t);                                                  \
   template class DomainCells<D>;                                                                                       \
@@ -384,7 +402,8 @@ StencilLayout<D>::StencilLayout(int degree) {
                                             SolveReport&);                                                             \
   template QuadratureDump quadrature_dump<D>(const CellRules<D>&);                                                     \
   template InsideSplineTable inside_spline_table<D>(const BackgroundGrid<D>&, int);                                    \
-  template struct StencilLayout<D>;
+  template struct StencilLayout<D>;                                                                                    \
+  template SplinePlacement spline_placement<D>(const SplineBasis<D>&, int, std::size_t);
 SAGE_DISCRETIZATION(2)
 SAGE_DISCRETIZATION(3)
 #undef SAGE_DISCRETIZATION

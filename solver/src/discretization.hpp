@@ -13,6 +13,8 @@
 // Also: the B-splines of the inside cells' common Gauss rule, tabulated
 // once for every assembly.
 
+#include "schwarz_preconditioner.hpp"
+
 #include <sage/solver/domain_quadrature.hpp>
 #include <sage/solver/mesh_domain.hpp>
 #include <sage/solver/problem.hpp>
@@ -126,6 +128,12 @@ std::size_t rest_points(const PoissonProblem& problem, const CellRules<D>& rules
 template <int D>
 SplineBasis<D> basis_on_cells(const DomainCells<D>& cells, const ClassifiedGrid<D>& classified, CellRules<D>& rules,
                               BasisKind kind, SolveReport& report);
+
+/// Where the unknowns sit on the grid, for the Schwarz preconditioner:
+/// `components` copies of the basis' unknowns (component-major), then
+/// `without_place` unknowns with no B-spline of their own.
+template <int D>
+SplinePlacement spline_placement(const SplineBasis<D>& basis, int components, std::size_t without_place = 0);
 
 /// The rules' points, for display (SolverOptions::keep_quadrature).
 template <int D>

@@ -418,7 +418,8 @@ ElasticitySolution<D> solve_elasticity(const ElasticityProblem& problem, const S
   const double tolerance = options.cg_tolerance > 0.0
                                ? options.cg_tolerance
                                : automatic_cg_tolerance(classified.grid.h, domain.longest_side(), n);
-  Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report);
+  const SplinePlacement placement = spline_placement(solution.basis, D);
+  Eigen::VectorXd coefficients = solve_symmetric(system, right, kind, tolerance, report, &placement);
   spread_coefficients(solution, coefficients);
   timer.lap(&StageSeconds::solve);
 

@@ -6,6 +6,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -174,10 +175,23 @@ Eigen::VectorXd jacobi_then_incomplete_cholesky(const Eigen::SparseMatrix<double
 }  // namespace
 
 Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
-                                LinearSolverKind kind, double tolerance, SolveReport& report) {
+                                LinearSolverKind kind, double tolerance, SolveReport& report,
+                                const SplinePlacement* placement) {
   check_system(system, right);
+  if (kind == LinearSolverKind::Schwarz && !placement)
+    throw std::invalid_argument("the Schwarz preconditioner needs the unknowns' places on the grid");
+  if (kind == LinearSolverKind::Automatic && placement) kind = LinearSolverKind::Schwarz;
   Eigen::VectorXd x;
   switch (kind) {
+    case LinearSolverKind::Schwarz: {
+      const auto start = std::chrono::steady_clock::now();
+      const SchwarzPreconditioner schwarz(system, *placement);
+      report.preconditioner_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      report.linear_solver = "conjugate gradients, " + schwarz.description();
+      report.preconditioner_mb = static_cast<double>(schwarz.bytes()) / (1024.0 * 1024.0);
+      x = conjugate_gradients(system, right, tolerance, report, schwarz).x;
+      break;
+    }
     case LinearSolverKind::Direct: {
       Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
       if (factor.info() != Eigen::Success)

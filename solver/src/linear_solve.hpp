@@ -4,6 +4,8 @@
 // with incomplete Cholesky or Jacobi. Automatic means Jacobi in legs,
 // then incomplete Cholesky when Jacobi is too slow (3D systems).
 
+#include "schwarz_preconditioner.hpp"
+
 #include <sage/solver/solver_options.hpp>
 
 #include <Eigen/SparseCore>
@@ -13,8 +15,11 @@ namespace sage::solver {
 /// Solves system x = right (`system`: the lower triangle); records the
 /// solver, its iterations and tolerance in `report`. Throws
 /// std::runtime_error when the factorization fails, conjugate gradients do
-/// not converge or the solution is not finite.
+/// not converge or the solution is not finite. `placement`: where the
+/// unknowns sit on the grid, for the multilevel Schwarz preconditioner
+/// (LinearSolverKind::Schwarz, and Automatic, which uses it when given).
 Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
-                                LinearSolverKind kind, double tolerance, SolveReport& report);
+                                LinearSolverKind kind, double tolerance, SolveReport& report,
+                                const SplinePlacement* placement = nullptr);
 
 }  // namespace sage::solver

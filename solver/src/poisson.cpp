@@ -392,7 +392,10 @@ std::size_t whole_nonzeros(const Eigen::SparseMatrix<double>& system) {
 template <int D>
 void solve_and_spread(PoissonSolution<D>& solution, const PoissonSystem& poisson, const PoissonAssembly& assembly,
                       bool pure_neumann, LinearSolverKind kind, double tolerance) {
-  Eigen::VectorXd coefficients = solve_symmetric(poisson.matrix, poisson.right, kind, tolerance, solution.report);
+  const SplinePlacement placement =
+      spline_placement(solution.basis, 1, static_cast<std::size_t>(poisson.second_select.cols()));
+  Eigen::VectorXd coefficients =
+      solve_symmetric(poisson.matrix, poisson.right, kind, tolerance, solution.report, &placement);
   const Eigen::SparseMatrix<double>& E = solution.basis.extension;
   const Eigen::Index p_unknowns = E.cols();
   if (pure_neumann)  // zero mean of u = u0 + sum c v: the constant is P's vector of ones

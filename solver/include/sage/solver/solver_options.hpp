@@ -18,11 +18,12 @@ namespace sage::solver {
 
 /// Direct: sparse LDLT (AMD ordering). ConjugateGradient: preconditioned
 /// with incomplete Cholesky; JacobiConjugateGradient: with the diagonal
-/// (cheaper to set up, more iterations). Automatic: conjugate gradients
-/// with incomplete Cholesky in 2D, Jacobi in 3D, whose wider stencils
-/// make the incomplete factorization expensive; Direct for the Robin
+/// (cheaper to set up, more iterations); Schwarz: with multilevel additive
+/// Schwarz on cell blocks (schwarz_preconditioner.hpp: iterations nearly
+/// independent of h and of the cuts). Automatic: conjugate gradients with
+/// incomplete Cholesky in 2D, Schwarz in 3D; Direct for the Robin
 /// structure with its second function.
-enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient };
+enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient, Schwarz };
 
 /// How Dirichlet conditions are imposed. Weak: Nitsche's method, with the
 /// WEB B-splines as trial functions and the symmetric terms
@@ -113,6 +114,8 @@ struct SolveReport {
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
   double memory_estimate_mb = 0.0;                                     // memory_estimate.hpp, from the classified grid
+  double preconditioner_mb = 0.0;       // held by the multilevel Schwarz preconditioner
+  double preconditioner_seconds = 0.0;  // its set-up, wall clock (of seconds.solve)
   StageSeconds seconds;                                                // wall clock
   StageSeconds cpu_seconds;                                            // process CPU time (all threads)
   /// Relative errors when the problem has an exact solution: L2 (|u - u_h| / |u|),
