@@ -34,7 +34,14 @@ MemoryEstimate estimate_memory(int dimension, int degree, std::size_t cells_insi
   bytes += splines * stencil * 8.0 * std::max(threads, 1);
   const double system = 2.0 * splines * stencil * 12.0;
   bytes += system;
-  if (direct_solve) bytes += system * (dimension == 2 ? 4.0 : 20.0);
+  if (direct_solve) {
+    bytes += system * (dimension == 2 ? 4.0 : 20.0);
+  } else if (dimension == 3) {
+    // The multilevel Schwarz preconditioner: the whole matrix once more
+    // while it builds the coarse levels, and the distinct block inverses.
+    const double block = std::pow(q, 2.0 * d) * 8.0 * components;
+    bytes += system / 2.0 + (2.0 * degree + 1.0) * static_cast<double>(cells_cut) * block;
+  }
   e.megabytes = bytes / (1024.0 * 1024.0);
   return e;
 }

@@ -1,6 +1,6 @@
 #include "schwarz_preconditioner.hpp"
 
-#include "message_text.hpp"
+#include <sage/solver/memory_estimate.hpp>
 
 #include <Eigen/Cholesky>
 
@@ -34,6 +34,9 @@ constexpr double kCoarseShare = 0.1;
 
 /// Blocks whose entries agree to this relative precision share an inverse.
 constexpr double kSharedBlockPrecision = 0x1p-36;
+
+/// The share of the available memory the distinct blocks may take at most.
+constexpr double kDistinctBlockMemoryShare = 0.25;
 
 /// Blocks applied together in one matrix product.
 constexpr int kBlocksPerProduct = 64;
@@ -136,21 +139,60 @@ Eigen::MatrixXd dense_block(const Eigen::SparseMatrix<double>& lower, const int*
   return block;
 }
 
-/// A hash of the block's entries rounded to kSharedBlockPrecision of its
-/// largest diagonal entry (two 64-bit halves: collisions are not checked).
-std::pair<std::uint64_t, std::uint64_t> block_hash(const Eigen::MatrixXd& block) {
-  const double scale = block.diagonal().cwiseAbs().maxCoeff();
-  std::uint64_t a = 0x9e3779b97f4a7c15ULL ^ static_cast<std::uint64_t>(block.rows());
-  std::uint64_t b = 0xc2b2ae3d27d4eb4fULL + static_cast<std::uint64_t>(block.rows());
-  const double per_unit = scale > 0.0 ? 1.0 / (scale * kSharedBlockPrecision) : 1.0;
-  for (Eigen::Index j = 0; j < block.cols(); ++j)
-    for (Eigen::Index i = j; i < block.rows(); ++i) {
-      const auto q = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::nearbyint(block(i, j) * per_unit)));
-      a = (a ^ q) * 0x100000001b3ULL;
-      b = (b + q) * 0xff51afd7ed558ccdULL;
-      b ^= b >> 29;
+/// 128 bits of a hash, from two 64-bit mixers.
+using Hash = std::pair<std::uint64_t, std::uint64_t>;
+
+struct HashMixer {
+  std::uint64_t a = 0x9e3779b97f4a7c15ULL, b = 0xc2b2ae3d27d4eb4fULL;
+  void add(std::uint64_t q) {
+    a = (a ^ q) * 0x100000001b3ULL;
+    b = (b + q) * 0xff51afd7ed558ccdULL;
+    b ^= b >> 29;
+  }
+  void add(const Hash& h) {
+    add(h.first);
+    add(h.second);
+  }
+  Hash value() const { return {a, b}; }
+};
+
+/// Per unknown, a hash of its column of the lower triangle as the unknown
+/// sees it: each entry's row as an offset of B-spline indices with its
+/// component, and its value rounded to kSharedBlockPrecision of the
+/// diagonal. Blocks whose members have equal hashes, in the same places,
+/// are equal (their entries are those columns' entries).
+std::vector<Hash> column_hashes(const Eigen::SparseMatrix<double>& lower, const SplinePlacement& placement) {
+  std::vector<Hash> hashes(static_cast<std::size_t>(lower.cols()));
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index u = 0; u < lower.cols(); ++u) {
+    HashMixer mix;
+    const auto& at = placement.index[static_cast<std::size_t>(u)];
+    Eigen::SparseMatrix<double>::InnerIterator e(lower, u);
+    const double diagonal = e && e.row() == u ? std::abs(e.value()) : 1.0;
+    const double per_unit = diagonal > 0.0 ? 1.0 / (diagonal * kSharedBlockPrecision) : 1.0;
+    for (; e; ++e) {
+      const auto& row = placement.index[static_cast<std::size_t>(e.row())];
+      mix.add(static_cast<std::uint64_t>(placement.component[static_cast<std::size_t>(e.row())] + 1));
+      for (int k = 0; k < 3; ++k) mix.add(static_cast<std::uint64_t>(row[k] - at[k]));
+      mix.add(static_cast<std::uint64_t>(static_cast<std::int64_t>(std::nearbyint(e.value() * per_unit))));
     }
-  return {a, b};
+    hashes[static_cast<std::size_t>(u)] = mix.value();
+  }
+  return hashes;
+}
+
+/// A block's hash: its members' places relative to the first, their components and column hashes.
+Hash block_hash(const int* members, int m, const SplinePlacement& placement, const std::vector<Hash>& columns) {
+  HashMixer mix;
+  mix.add(static_cast<std::uint64_t>(m));
+  const auto& first = placement.index[static_cast<std::size_t>(members[0])];
+  for (int i = 0; i < m; ++i) {
+    const auto u = static_cast<std::size_t>(members[i]);
+    for (int k = 0; k < 3; ++k) mix.add(static_cast<std::uint64_t>(placement.index[u][k] - first[k]));
+    mix.add(static_cast<std::uint64_t>(placement.component[u]));
+    mix.add(columns[u]);
+  }
+  return mix.value();
 }
 
 /// The inverse of an SPD block, by its Cholesky factor. Round-off can
@@ -168,7 +210,7 @@ Eigen::MatrixXd block_inverse(Eigen::MatrixXd block) {
 }
 
 struct HashOfPair {
-  std::size_t operator()(const std::pair<std::uint64_t, std::uint64_t>& p) const {
+  std::size_t operator()(const Hash& p) const {
     return static_cast<std::size_t>(p.first ^ (p.second * 31));
   }
 };
@@ -222,12 +264,13 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
   const std::size_t cell_count = cells.start.size() - 1;
   const auto size_of = [&](std::size_t b) { return static_cast<int>(cells.start[b + 1] - cells.start[b]); };
   // Equal blocks share an inverse: hash them all, number the distinct ones.
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> hashes(cell_count);
-#pragma omp parallel for schedule(dynamic, 64)
+  const std::vector<Hash> columns = column_hashes(lower, placement);
+  std::vector<Hash> hashes(cell_count);
+#pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < cell_count; ++b)
-    hashes[b] = block_hash(dense_block(lower, cells.members.data() + cells.start[b], size_of(b)));
-  std::unordered_map<std::pair<std::uint64_t, std::uint64_t>, std::vector<std::size_t>, HashOfPair> cells_of_hash;
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> distinct;
+    hashes[b] = block_hash(cells.members.data() + cells.start[b], size_of(b), placement, columns);
+  std::unordered_map<Hash, std::vector<std::size_t>, HashOfPair> cells_of_hash;
+  std::vector<Hash> distinct;
   for (std::size_t b = 0; b < cell_count; ++b) {
     auto [it, added] = cells_of_hash.try_emplace(hashes[b]);
     if (added) distinct.push_back(hashes[b]);
@@ -235,7 +278,17 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
   }
   // Keep every distinct block (near the boundary, where the cuts make
   // them differ) and the shared ones on even cells only: inside, blocks
-  // two cells apart still overlap, at an eighth of the cost.
+  // two cells apart still overlap, at an eighth of the cost. When the
+  // distinct ones would take over a quarter of the memory available
+  // (coefficients that vary everywhere make every block distinct), they
+  // too are kept on even cells only.
+  double distinct_megabytes = 0.0;
+  for (const auto& hash : distinct) {
+    const std::vector<std::size_t>& same = cells_of_hash[hash];
+    if (same.size() == 1) distinct_megabytes += std::pow(size_of(same.front()), 2) * 8.0 / (1024.0 * 1024.0);
+  }
+  const double available = available_megabytes();
+  const bool thin_out = available > 0.0 && distinct_megabytes > kDistinctBlockMemoryShare * available;
   SchwarzPreconditioner::Blocks blocks;
   blocks.start.push_back(0);
   std::vector<std::size_t> representative;
@@ -243,7 +296,7 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
     const std::vector<std::size_t>& same = cells_of_hash[hash];
     std::vector<int> users;
     for (const std::size_t b : same) {
-      if (same.size() > 1 && !cells.even[b]) continue;
+      if ((same.size() > 1 || thin_out) && !cells.even[b]) continue;
       users.push_back(static_cast<int>(blocks.start.size() - 1));
       blocks.members.insert(blocks.members.end(), cells.members.begin() + static_cast<std::ptrdiff_t>(cells.start[b]),
                             cells.members.begin() + static_cast<std::ptrdiff_t>(cells.start[b + 1]));
