@@ -104,7 +104,8 @@ po::options_description solve_options(SolveCommand& command, int& cells, double&
   add("robin-band-power", po::value(&command.options.robin_band_power)->default_value(command.options.robin_band_power),
       "structure route: the power M of the cut-off (1 - omega_R / band)^M, M >= 2");
   add("solver", po::value(&command.linear_solver)->default_value("auto"),
-      "auto (cg in 2D, schwarz in 3D, direct for --robin structure), direct (sparse LDLT), cg (conjugate "
+      "auto (cg in 2D; in 3D jacobi, then schwarz when jacobi would take longer; direct for --robin "
+      "structure), direct (sparse LDLT), cg (conjugate "
       "gradients, incomplete Cholesky), jacobi (conjugate gradients, Jacobi) or "
       "schwarz (conjugate gradients, multilevel Schwarz on cell blocks)");
   add("tolerance", po::value(&command.options.cg_tolerance),

@@ -124,10 +124,10 @@ using IncompleteCholesky = Eigen::IncompleteCholesky<double>;
 /// Conjugate gradients with incomplete Cholesky; with Jacobi when the
 /// incomplete factorization finds no positive pivots even after its
 /// shifts (it can, on a positive definite matrix far from diagonally
-/// dominant). `before`: what ran first, for the report.
+/// dominant). `before`: what ran first, for the report ("..., then ").
 Eigen::VectorXd incomplete_cholesky_cg(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
                                        double tolerance, SolveReport& report, const std::string& before = "") {
-  const std::string start = before.empty() ? "conjugate gradients, " : before + ", then ";
+  const std::string start = before.empty() ? "conjugate gradients, " : before;
   IncompleteCholesky factor(system);
   if (factor.info() == Eigen::Success) {
     report.linear_solver = start + "incomplete Cholesky";
@@ -137,39 +137,72 @@ Eigen::VectorXd incomplete_cholesky_cg(const Eigen::SparseMatrix<double>& system
   return conjugate_gradients(system, right, tolerance, report, Jacobi(system)).x;
 }
 
-/// 3D, automatic: Jacobi's preconditioner is set up for free and enough
-/// for most domains (a few hundred to 1,400 iterations), but domains with
-/// features a few cells wide (a mesh's thin ears) make the WEB system's
-/// condition reach 1e8 after scaling, where Jacobi needs 8,000 iterations
-/// and incomplete Cholesky 23 (its set-up costs several times a hundred
-/// Jacobi iterations). So Jacobi in legs, while they promise convergence
-/// within kJacobiBudget iterations.
-constexpr int kJacobiProbe = 200;
-constexpr int kJacobiBudget = 4000;
+/// Automatic: Jacobi's preconditioner is set up for free and enough for
+/// easy systems (degree 2 on round domains: about 100 iterations), but its
+/// iterations grow as 1/h, and domains with features a few cells wide (a
+/// mesh's thin ears) make the WEB system's condition reach 1e8 after
+/// scaling, where Jacobi needs thousands. So Jacobi in legs, while they
+/// promise convergence within the budget; then the fallback, from where
+/// Jacobi left off.
+struct JacobiLegs {
+  int probe = 200;        // the first leg
+  int longest = 1 << 30;  // the longest leg after it
+  int budget = 4000;      // iterations in all
+};
 
-Eigen::VectorXd jacobi_then_incomplete_cholesky(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right,
-                                                double tolerance, SolveReport& report) {
+/// Without the unknowns' places: incomplete Cholesky after Jacobi's 4,000
+/// iterations (its set-up costs several times a hundred Jacobi iterations).
+constexpr JacobiLegs kBeforeIncompleteCholesky{};
+
+/// With them: multilevel Schwarz after the Jacobi iterations its whole
+/// solve costs, which fall with the size as its distinct blocks (near the
+/// boundary) become fewer per unknown: measured 700 at 2e4 unknowns (the
+/// ball, degree 2), 370 at 6e4 (the plate with a hole), 90 at 1e6. Legs of
+/// at most 100 iterations, as the first legs' rates are optimistic.
+JacobiLegs before_schwarz(Eigen::Index unknowns) {
+  const double worth = 700.0 * std::sqrt(2e4 / std::max(1.0, static_cast<double>(unknowns)));
+  JacobiLegs legs;
+  legs.budget = static_cast<int>(std::clamp(worth, 60.0, 1000.0));
+  legs.probe = std::min(100, legs.budget / 2);
+  legs.longest = legs.probe;
+  return legs;
+}
+
+template <class Fallback>
+Eigen::VectorXd jacobi_then(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
+                            SolveReport& report, const JacobiLegs& legs, Fallback&& fallback) {
   report.linear_solver = "conjugate gradients, Jacobi";
   const Jacobi jacobi(system);
   // Jacobi in legs: after each, the rate of the last leg says how many
   // more iterations it needs (CG's residual falls about geometrically
-  // once past its first fast phase); beyond the budget, incomplete Cholesky.
-  CgResult leg = conjugate_gradients(system, right, tolerance, report, jacobi, kJacobiProbe);
-  int spent = kJacobiProbe, length = kJacobiProbe;
+  // once past its first fast phase).
+  CgResult leg = conjugate_gradients(system, right, tolerance, report, jacobi, legs.probe);
+  int spent = legs.probe, length = legs.probe;
   double start = 1.0;
   while (!leg.converged) {
     const double per_iteration = std::log(leg.residual / start) / length;
     const double more = per_iteration < 0.0 ? std::log(tolerance / leg.residual) / per_iteration
                                             : std::numeric_limits<double>::infinity();
-    if (spent + more > kJacobiBudget) break;
+    if (spent + more > legs.budget) break;
     start = leg.residual;
-    length = std::max(kJacobiProbe, static_cast<int>(1.2 * more));
+    length = std::min(legs.longest, std::max(legs.probe, static_cast<int>(1.2 * more)));
     leg = conjugate_gradients(system, right, tolerance, report, jacobi, length, &leg.x);
     spent += length;
   }
   if (leg.converged) return leg.x;
-  return incomplete_cholesky_cg(system, right, tolerance, report,
-                                "conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow)");
+  return fallback("conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then ", leg.x);
+}
+
+/// Conjugate gradients with multilevel Schwarz from `guess` (or 0); `before`: what ran first, for the report.
+Eigen::VectorXd schwarz_cg(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
+                           SolveReport& report, const SplinePlacement& placement, const std::string& before,
+                           const Eigen::VectorXd* guess = nullptr) {
+  const auto start = std::chrono::steady_clock::now();
+  const SchwarzPreconditioner schwarz(system, placement);
+  report.preconditioner_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.preconditioner_mb = static_cast<double>(schwarz.bytes()) / (1024.0 * 1024.0);
+  report.linear_solver = before + schwarz.description();
+  return conjugate_gradients(system, right, tolerance, report, schwarz, 0, guess).x;
 }
 
 }  // namespace
@@ -180,18 +213,11 @@ Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const
   check_system(system, right);
   if (kind == LinearSolverKind::Schwarz && !placement)
     throw std::invalid_argument("the Schwarz preconditioner needs the unknowns' places on the grid");
-  if (kind == LinearSolverKind::Automatic && placement) kind = LinearSolverKind::Schwarz;
   Eigen::VectorXd x;
   switch (kind) {
-    case LinearSolverKind::Schwarz: {
-      const auto start = std::chrono::steady_clock::now();
-      const SchwarzPreconditioner schwarz(system, *placement);
-      report.preconditioner_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      report.linear_solver = "conjugate gradients, " + schwarz.description();
-      report.preconditioner_mb = static_cast<double>(schwarz.bytes()) / (1024.0 * 1024.0);
-      x = conjugate_gradients(system, right, tolerance, report, schwarz).x;
+    case LinearSolverKind::Schwarz:
+      x = schwarz_cg(system, right, tolerance, report, *placement, "conjugate gradients, ");
       break;
-    }
     case LinearSolverKind::Direct: {
       Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system);
       if (factor.info() != Eigen::Success)
@@ -212,7 +238,18 @@ Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const
       x = conjugate_gradients(system, right, tolerance, report, Jacobi(system)).x;
       report.linear_solver = "conjugate gradients, Jacobi";
       break;
-    case LinearSolverKind::Automatic: x = jacobi_then_incomplete_cholesky(system, right, tolerance, report); break;
+    case LinearSolverKind::Automatic:
+      if (placement)
+        x = jacobi_then(system, right, tolerance, report, before_schwarz(system.rows()),
+                        [&](const std::string& before, const Eigen::VectorXd& guess) {
+                          return schwarz_cg(system, right, tolerance, report, *placement, before, &guess);
+                        });
+      else
+        x = jacobi_then(system, right, tolerance, report, kBeforeIncompleteCholesky,
+                        [&](const std::string& before, const Eigen::VectorXd&) {
+                          return incomplete_cholesky_cg(system, right, tolerance, report, before);
+                        });
+      break;
   }
   if (!x.allFinite()) throw std::runtime_error("the solve produced non-finite coefficients");
   return x;

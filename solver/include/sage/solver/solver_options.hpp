@@ -21,8 +21,9 @@ namespace sage::solver {
 /// (cheaper to set up, more iterations); Schwarz: with multilevel additive
 /// Schwarz on cell blocks (schwarz_preconditioner.hpp: iterations nearly
 /// independent of h and of the cuts). Automatic: conjugate gradients with
-/// incomplete Cholesky in 2D, Schwarz in 3D; Direct for the Robin
-/// structure with its second function.
+/// incomplete Cholesky in 2D; in 3D Jacobi, then Schwarz when Jacobi would
+/// take longer than Schwarz's whole solve (linear_solve.cpp); Direct for
+/// the Robin structure with its second function.
 enum class LinearSolverKind { Automatic, Direct, ConjugateGradient, JacobiConjugateGradient, Schwarz };
 
 /// How Dirichlet conditions are imposed. Weak: Nitsche's method, with the
