@@ -84,8 +84,8 @@ Figures measure(const std::function<SolveReport(const SolverOptions&)>& solve, S
 
 void print_header(const char* title) {
   std::printf("\n%s\n%6s %5s %9s | %6s %7s %8s %8s %10s | %6s %7s %8s %8s %10s | %7s | %15s %8s\n", title, "degree",
-              "cells", "unknowns", "iter.", "set-up", "solve s", "peak MB", "L2", "iter.", "set-up", "solve s", "peak MB",
-              "L2", "speed-up", "auto", "solve s");
+              "cells", "unknowns", "iter.", "set-up", "solve s", "peak MB", "L2", "iter.", "set-up", "solve s",
+              "peak MB", "L2", "speed-up", "auto", "solve s");
 }
 
 void print_side(const Figures& f) {
@@ -194,9 +194,10 @@ int main(int argc, char** argv) {
 #ifdef _OPENMP
   threads = omp_get_max_threads();
 #endif
-  std::printf("preconditioner_bench: %d thread(s); old = CG with Jacobi (incomplete Cholesky when Jacobi stagnates), "
-              "new = CG with multilevel Schwarz; seconds are wall clock\n",
-              threads);
+  std::printf(
+      "preconditioner_bench: %d thread(s); old = CG with Jacobi (incomplete Cholesky when Jacobi stagnates), "
+      "new = CG with multilevel Schwarz; seconds are wall clock\n",
+      threads);
   if (cases.size() == 1 && cases[0] == "big") {
     print_header("Plate (-1,1)^2 x (0,1) minus cylinder, about 1e6 unknowns (Schwarz only)");
     const PoissonProblem plate = plate_with_hole();

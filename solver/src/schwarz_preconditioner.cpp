@@ -210,9 +210,7 @@ Eigen::MatrixXd block_inverse(Eigen::MatrixXd block) {
 }
 
 struct HashOfPair {
-  std::size_t operator()(const Hash& p) const {
-    return static_cast<std::size_t>(p.first ^ (p.second * 31));
-  }
+  std::size_t operator()(const Hash& p) const { return static_cast<std::size_t>(p.first ^ (p.second * 31)); }
 };
 
 /// The (cell, component) pairs of the unknowns' supports, numbered in
@@ -330,7 +328,8 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
 /// result += S r = W sum over blocks of R_b^T A_b^-1 R_b W r, W the
 /// shares, on all cores; blocks that share an inverse go kBlocksPerProduct
 /// at a time through one matrix product.
-void add_blocks(const SchwarzPreconditioner::Blocks& blocks, const Eigen::VectorXd& unscaled_r, Eigen::VectorXd& result) {
+void add_blocks(const SchwarzPreconditioner::Blocks& blocks, const Eigen::VectorXd& unscaled_r,
+                Eigen::VectorXd& result) {
   const Eigen::VectorXd r = blocks.share.cwiseProduct(unscaled_r);
   Eigen::VectorXd z = Eigen::VectorXd::Zero(r.size());
   // Work items: (inverse, first user, last user).
@@ -539,11 +538,12 @@ std::size_t SchwarzPreconditioner::bytes() const {
   for (const Level& level : levels_) {
     const Blocks& b = level.blocks;
     total += b.members.size() * sizeof(int) + b.start.size() * sizeof(std::size_t);
-    for (const Eigen::MatrixXd& inverse : b.inverses) total += static_cast<std::size_t>(inverse.size()) * sizeof(double);
+    for (const Eigen::MatrixXd& inverse : b.inverses)
+      total += static_cast<std::size_t>(inverse.size()) * sizeof(double);
     total += static_cast<std::size_t>(level.prolongation.nonZeros()) * (sizeof(double) + sizeof(int));
   }
-  return total + static_cast<std::size_t>(coarsest_.matrixL().nestedExpression().nonZeros()) *
-                     (sizeof(double) + sizeof(int));
+  return total +
+         static_cast<std::size_t>(coarsest_.matrixL().nestedExpression().nonZeros()) * (sizeof(double) + sizeof(int));
 }
 
 }  // namespace sage::solver

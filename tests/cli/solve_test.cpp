@@ -629,8 +629,8 @@ TEST(CliSolve, ThreeDimensionalAutoSolverMovesOnToMultilevelSchwarz) {
   ASSERT_EQ(automatic.exit_code, 0) << automatic.output;
   EXPECT_NE(automatic.output.find("solver: conjugate gradients, Jacobi, "), std::string::npos) << automatic.output;
   EXPECT_LT(printed_l2(automatic), 1e-5) << automatic.output;
-  const Result schwarz = run("solve " + problem + " -o " + scratch("ball_schwarz.vtu").string() + common +
-                             " --solver schwarz");
+  const Result schwarz =
+      run("solve " + problem + " -o " + scratch("ball_schwarz.vtu").string() + common + " --solver schwarz");
   ASSERT_EQ(schwarz.exit_code, 0) << schwarz.output;
   EXPECT_NE(schwarz.output.find("solver: conjugate gradients, multilevel Schwarz (2 levels"), std::string::npos)
       << schwarz.output;

@@ -78,9 +78,9 @@ TEST(Schwarz, SolvesWhatTheDirectSolverSolves) {
   elastic.linear_solver = LinearSolverKind::Direct;
   const auto elastic_direct = solve_elasticity<3>(sphere, elastic);
   for (int c = 0; c < 3; ++c)
-    EXPECT_LT(coefficient_difference(elastic_schwarz.spline_coefficients.col(c),
-                                     elastic_direct.spline_coefficients.col(c)),
-              1e-6)
+    EXPECT_LT(
+        coefficient_difference(elastic_schwarz.spline_coefficients.col(c), elastic_direct.spline_coefficients.col(c)),
+        1e-6)
         << "component " << c;
 }
 
@@ -93,10 +93,9 @@ TEST(Schwarz, ThinTiltedWallsWithSliversAndCorners) {
   const RSystem r0 = RSystem::r0();
   const double s = 1.0 / std::sqrt(14.0);
   const std::array<double, 3> normal{s, 2 * s, 3 * s};
-  const Expr slab = r_and(halfspace({0.1 * normal[0], 0.1 * normal[1], 0.1 * normal[2]}, normal, 3),
-                          halfspace({-0.1 * normal[0], -0.1 * normal[1], -0.1 * normal[2]},
-                                    {-normal[0], -normal[1], -normal[2]}, 3),
-                          r0);
+  const Expr slab = r_and(
+      halfspace({0.1 * normal[0], 0.1 * normal[1], 0.1 * normal[2]}, normal, 3),
+      halfspace({-0.1 * normal[0], -0.1 * normal[1], -0.1 * normal[2]}, {-normal[0], -normal[1], -normal[2]}, 3), r0);
   const Expr domain = r_and(slab, ball({0.01, 0.02, 0.03}, 0.93, 3), r0);
   const Expr x = Expr::x(), y = Expr::y(), z = Expr::z();
   const Expr exact = sin(2.0 * x) * cos(y) + z * z;

@@ -115,8 +115,8 @@ struct SolveReport {
   double condition = std::numeric_limits<double>::quiet_NaN();         // of the system matrix
   double scaled_condition = std::numeric_limits<double>::quiet_NaN();  // after Jacobi scaling
   double memory_estimate_mb = 0.0;                                     // memory_estimate.hpp, from the classified grid
-  double preconditioner_mb = 0.0;       // held by the multilevel Schwarz preconditioner
-  double preconditioner_seconds = 0.0;  // its set-up, wall clock (of seconds.solve)
+  double preconditioner_mb = 0.0;                                      // held by the multilevel Schwarz preconditioner
+  double preconditioner_seconds = 0.0;                                 // its set-up, wall clock (of seconds.solve)
   StageSeconds seconds;                                                // wall clock
   StageSeconds cpu_seconds;                                            // process CPU time (all threads)
   /// Relative errors when the problem has an exact solution: L2 (|u - u_h| / |u|),
