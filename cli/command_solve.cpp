@@ -10,6 +10,7 @@
 
 #include <sage/output/output_file.hpp>
 #include <sage/solver/bspline.hpp>
+#include <sage/solver/default_grid.hpp>
 #include <sage/solver/poisson.hpp>
 
 #include <boost/program_options.hpp>
@@ -48,6 +49,7 @@ void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& 
               command.problem_path.c_str(), D, command.options.degree, command.basis.c_str(), r.dirichlet_route.c_str(),
               command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
               command.options.cell_width);
+  std::fputs(command.grid_note.c_str(), stdout);
   if (r.nitsche_penalty) std::printf("  Nitsche penalty %g / h\n", *r.nitsche_penalty);
   if (r.robin_band) {
     if (*r.robin_band > 0.0)
@@ -86,7 +88,8 @@ po::options_description solve_options(SolveCommand& command, int& cells, double&
   add("help,h", "show this help");
   add("output,o", po::value(&command.output_path)->required(), "output file (.vtu)");
   add("degree", po::value(&command.options.degree)->default_value(3), "B-spline degree, 1 to 5");
-  add("cells", po::value(&cells), "cells across the longest side of the box (default 64 in 2D, 20 in 3D)");
+  add("cells", po::value(&cells),
+      "cells across the longest side of the box (default 64 in 2D; 20 in 3D, more for thin walls)");
   add("h", po::value(&h), "cell width (instead of --cells)");
   add("basis", po::value(&command.basis)->default_value("web"), "web (stable WEB-splines) or weighted");
   add("robin", po::value(&command.robin),
@@ -196,8 +199,16 @@ int run_solve(const std::vector<std::string>& args) {
   command.options.estimate_condition = vm.count("condition") > 0;
   if (command.h) {
     command.options.cell_width = *command.h;
-  } else {
+  } else if (command.cells || domain.dimension == 2) {
     command.options.cell_width = domain.longest_side() / command.cells.value_or(domain.dimension == 2 ? 64 : 20);
+  } else {
+    const solver::DefaultGrid grid = solver::default_grid(domain);
+    command.options.cell_width = domain.longest_side() / grid.cells;
+    if (grid.refined())
+      command.grid_note = "  grid: " + std::to_string(grid.cells) + " cells across (not " +
+                          std::to_string(grid.preferred) + "): the domain's walls are thin; " +
+                          std::to_string(grid.cells_inside) + " cells inside, " + std::to_string(grid.cells_cut) +
+                          " cut (--cells or --h to choose)\n";
   }
   std::visit(
       [&](const auto& problem) {

@@ -28,6 +28,7 @@ struct SolveCommand {
   std::optional<int> cells;
   std::optional<double> h;
   bool quiet = false;
+  std::string grid_note;  // why the default grid has more cells than 20, or empty
 };
 
 /// The output grid: --grid, else solution_grid's default, over the problem's box.

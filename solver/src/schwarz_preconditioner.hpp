@@ -72,11 +72,11 @@ class SchwarzPreconditioner {
   struct Blocks {
     std::vector<std::size_t> start;  // block b's unknowns: members[start[b] .. start[b + 1])
     std::vector<int> members;
-    std::vector<Eigen::MatrixXd> inverses;  // of the distinct blocks
-    std::vector<std::vector<int>> users;    // per inverse: its blocks
-    Eigen::VectorXd share;                  // per unknown: 1 / sqrt(the blocks it lies in), or 0
-    std::vector<int> lone;                  // unknowns in no block
-    Eigen::VectorXd lone_inverse;           // their inverse diagonal entries, scaled
+    std::vector<Eigen::MatrixXf> factors;  // of the distinct blocks' inverses: A_b^-1 = G^T G, G = L^-1
+    std::vector<std::vector<int>> users;   // per inverse: its blocks
+    Eigen::VectorXd share;                 // per unknown: 1 / sqrt(the blocks it lies in), or 0
+    std::vector<int> lone;                 // unknowns in no block
+    Eigen::VectorXd lone_inverse;          // their inverse diagonal entries, scaled
   };
 
  private:

@@ -89,19 +89,25 @@ inline std::vector<double> point_values(vtkDataSet* data, const char* name) {
   return values;
 }
 
-/// The cube [lo, hi]^3 as 12 outward-oriented triangles (OFF), written to
+/// The box [lo, hi] as 12 outward-oriented triangles (OFF), written to
 /// the scratch folder as `name`.
-inline std::string write_cube_off(const std::string& name, double lo, double hi) {
+inline std::string write_box_off(const std::string& name, const std::array<double, 3>& lo,
+                                 const std::array<double, 3>& hi) {
   std::string text = "OFF\n8 12 0\n";
   for (int v = 0; v < 8; ++v) {  // corners 0-3 at z = lo, 4-7 at z = hi, anticlockwise from (lo, lo)
     const int xy = v % 4;
-    const double x = (xy == 1 || xy == 2) ? hi : lo, y = xy >= 2 ? hi : lo, z = v >= 4 ? hi : lo;
+    const double x = (xy == 1 || xy == 2) ? hi[0] : lo[0], y = xy >= 2 ? hi[1] : lo[1], z = v >= 4 ? hi[2] : lo[2];
     text += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + "\n";
   }
   text +=
       "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 2 3 7\n3 2 7 6\n3 1 2 6\n3 1 6 5\n3 3 0 4\n3 3 4 "
       "7\n";
   return write_file(name, text);
+}
+
+/// The cube [lo, hi]^3 (write_box_off).
+inline std::string write_cube_off(const std::string& name, double lo, double hi) {
+  return write_box_off(name, {lo, lo, lo}, {hi, hi, hi});
 }
 
 }  // namespace sage_cli_test

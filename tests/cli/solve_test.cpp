@@ -649,6 +649,34 @@ TEST(CliSolve, ThreeDimensionalAutoSolverMovesOnToMultilevelSchwarz) {
   EXPECT_NE(stiff_jacobi.output.find("broke down"), std::string::npos) << stiff_jacobi.output;
 }
 
+// A plate 2 x 2 x 0.05 from a mesh, with no --cells: the default 20 cells
+// (h = 0.1) hold no cell inside it and are refused, so the default grid
+// grows until the walls are about two cells thick, says so, and solves;
+// --cells 20 still gets the refusal that names the cure.
+TEST(CliSolve, DefaultGridGrowsForThinWalls) {
+  write_box_off("thin_plate.off", {-1.0, -1.0, 0.0}, {1.0, 1.0, 0.05});
+  const std::string problem = write_file("thin_plate.json", R"({ "domain": "thin_plate.off", "source": 1,
+    "boundary": { "default": { "type": "dirichlet", "value": 0 } } })");
+  const std::string out = scratch("thin_plate.vtu").string();
+  const Result fitted = run("solve " + problem + " -o " + out + " --degree 2");
+  ASSERT_EQ(fitted.exit_code, 0) << fitted.output;
+  EXPECT_NE(fitted.output.find("grid: "), std::string::npos) << fitted.output;
+  EXPECT_NE(fitted.output.find(" cells across (not 20): the domain's walls are thin"), std::string::npos)
+      << fitted.output;
+  const Result coarse = run("solve " + problem + " -o " + out + " --degree 2 --cells 20");
+  EXPECT_EQ(coarse.exit_code, 1) << coarse.output;
+  EXPECT_NE(coarse.output.find("too coarse"), std::string::npos) << coarse.output;
+  EXPECT_NE(coarse.output.find("use more cells"), std::string::npos) << coarse.output;
+  // A solid part keeps the preferred 20 cells, without a note.
+  write_cube_off("solid_cube.off", -1, 1);
+  const std::string solid = write_file("solid_cube.json", R"({ "domain": "solid_cube.off", "source": 1,
+    "boundary": { "default": { "type": "dirichlet", "value": 0 } } })");
+  const Result kept = run("solve " + solid + " -o " + out + " --degree 2");
+  ASSERT_EQ(kept.exit_code, 0) << kept.output;
+  EXPECT_EQ(kept.output.find("grid: "), std::string::npos) << kept.output;
+  EXPECT_NE(kept.output.find("cells: 8000 in the grid"), std::string::npos) << kept.output;  // 20^3
+}
+
 // --nitsche-penalty reaches the solver: the summary states it, the
 // solution changes (the penalty weighs the boundary condition against the
 // equation), and it stays as accurate as with the default.
