@@ -18,7 +18,8 @@ DefaultGrid default_grid(const ProblemDomain& domain, int preferred, int most) {
     choice.cells = std::min(n, most);
     const auto grid = BackgroundGrid<3>::covering(lo, hi, domain.longest_side() / choice.cells, 1);
     cells.classify(grid);
-    choice.cells_inside = static_cast<std::size_t>(std::count(cells.kinds().begin(), cells.kinds().end(), CellKind::Inside));
+    choice.cells_inside =
+        static_cast<std::size_t>(std::count(cells.kinds().begin(), cells.kinds().end(), CellKind::Inside));
     choice.cells_cut = static_cast<std::size_t>(std::count(cells.kinds().begin(), cells.kinds().end(), CellKind::Cut));
     if (choice.cells >= most || choice.cells_cut == 0 ||
         static_cast<double>(choice.cells_inside) >= kDefaultInsideShare * static_cast<double>(choice.cells_cut))
