@@ -170,23 +170,32 @@ Eigen::SparseMatrix<double> elastic_system(const SplineBasis<D>& basis, Elastici
   const Eigen::SparseMatrix<double>& E = basis.extension;
   const Eigen::Index N = E.cols();
   const auto relevant = static_cast<Eigen::Index>(basis.relevant.size());
-  std::vector<Eigen::Triplet<double>> entries;
   right.resize(D * N);
-  for (int c = 0; c < D; ++c) {
+  for (int c = 0; c < D; ++c)
     right.segment(c * N, N) = E.transpose() * Eigen::Map<const Eigen::VectorXd>(assembled.loads[c].data(), relevant);
-    for (int d = 0; d <= c; ++d) {
+  // Column-major: the columns of component d are those of the blocks (c, d),
+  // c >= d, one above the other; built a component at a time and appended
+  // in order, so that only that component's blocks exist beside the system.
+  Eigen::SparseMatrix<double> system(D * N, D * N);
+  for (int d = 0; d < D; ++d) {
+    std::vector<Eigen::SparseMatrix<double>> blocks;
+    for (int c = d; c < D; ++c) {
       std::vector<double>& band = assembled.bands[block_pair(c, d)];
-      const Eigen::SparseMatrix<double> block =
-          c == d ? extended_system(basis, band)
-                 : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, band) * E);
+      blocks.push_back(c == d ? extended_system(basis, band)
+                              : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, band) * E));
       std::vector<double>().swap(band);
-      for (Eigen::Index col = 0; col < block.outerSize(); ++col)
-        for (Eigen::SparseMatrix<double>::InnerIterator e(block, col); e; ++e)
-          entries.emplace_back(c * N + e.row(), d * N + col, e.value());
+    }
+    std::size_t entries = 0;
+    for (const auto& block : blocks) entries += static_cast<std::size_t>(block.nonZeros());
+    system.reserve(static_cast<Eigen::Index>(static_cast<std::size_t>(system.nonZeros()) + entries));
+    for (Eigen::Index col = 0; col < N; ++col) {
+      system.startVec(d * N + col);
+      for (int c = d; c < D; ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator e(blocks[static_cast<std::size_t>(c - d)], col); e; ++e)
+          system.insertBack(c * N + e.row(), d * N + col) = e.value();
     }
   }
-  Eigen::SparseMatrix<double> system(D * N, D * N);
-  system.setFromTriplets(entries.begin(), entries.end());
+  system.finalize();
   return system;
 }
 
