@@ -37,10 +37,10 @@ MemoryEstimate estimate_memory(int dimension, int degree, std::size_t cells_insi
   if (direct_solve) {
     bytes += system * (dimension == 2 ? 4.0 : 20.0);
   } else if (dimension == 3) {
-    // The multilevel Schwarz preconditioner: the whole matrix once more
-    // while it builds the coarse levels, and the distinct block inverses.
-    const double block = std::pow(q, 2.0 * d) * 8.0 * components;
-    bytes += system / 2.0 + (2.0 * degree + 1.0) * static_cast<double>(cells_cut) * block;
+    // The multilevel Schwarz preconditioner: the products that build the
+    // coarse levels, and the distinct blocks' factors (single precision).
+    const double block = std::pow(q, 2.0 * d) * 4.0 * components;
+    bytes += system / 4.0 + (2.0 * degree + 1.0) * static_cast<double>(cells_cut) * block;
   }
   e.megabytes = bytes / (1024.0 * 1024.0);
   return e;

@@ -288,7 +288,7 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
   double distinct_megabytes = 0.0;
   for (const auto& hash : distinct) {
     const std::vector<std::size_t>& same = cells_of_hash[hash];
-    if (same.size() == 1) distinct_megabytes += std::pow(size_of(same.front()), 2) * 8.0 / (1024.0 * 1024.0);
+    if (same.size() == 1) distinct_megabytes += std::pow(size_of(same.front()), 2) * 4.0 / (1024.0 * 1024.0);
   }
   const double available = available_megabytes();
   const bool thin_out = available > 0.0 && distinct_megabytes > kDistinctBlockMemoryShare * available;
@@ -507,28 +507,33 @@ SchwarzPreconditioner::SchwarzPreconditioner(const Eigen::SparseMatrix<double>& 
   if (placement.index.size() != static_cast<std::size_t>(lower.rows()) ||
       placement.component.size() != placement.index.size())
     throw std::invalid_argument("SchwarzPreconditioner: the placement does not match the matrix");
-  Eigen::SparseMatrix<double> matrix = lower;
+  // The level's matrix: the system itself (not copied), then the coarse ones.
+  const Eigen::SparseMatrix<double>* matrix = &lower;
+  Eigen::SparseMatrix<double> coarse_matrix;
   SplinePlacement here = placement;
-  while (matrix.rows() > kCoarsestUnknowns && static_cast<int>(levels_.size()) < kMostLevels) {
+  while (matrix->rows() > kCoarsestUnknowns && static_cast<int>(levels_.size()) < kMostLevels) {
     SplinePlacement coarse;
     Eigen::SparseMatrix<double> p = coarse_prolongation(here, coarse);
-    if (p.cols() == 0 || static_cast<double>(p.cols()) > kLeastCoarsening * static_cast<double>(matrix.rows())) break;
+    if (p.cols() == 0 || static_cast<double>(p.cols()) > kLeastCoarsening * static_cast<double>(matrix->rows()))
+      break;
     Level level;
-    level.blocks = cell_blocks(matrix, here);
-    matrix = galerkin_product(matrix, p);
+    level.blocks = cell_blocks(*matrix, here);
+    Eigen::SparseMatrix<double> next = galerkin_product(*matrix, p);
+    coarse_matrix = std::move(next);
+    matrix = &coarse_matrix;
     level.prolongation = std::move(p);
     levels_.push_back(std::move(level));
     here = std::move(coarse);
   }
-  coarsest_size_ = matrix.rows();
-  coarsest_.compute(matrix);
+  coarsest_size_ = matrix->rows();
+  coarsest_.compute(*matrix);
   if (coarsest_.info() != Eigen::Success) {
     // Round-off may leave the Galerkin matrix of a nearly dependent coarse
     // space short of definite: a relative shift restores it.
-    coarsest_shift_ = 1e-10 * matrix.diagonal().cwiseAbs().maxCoeff();
-    Eigen::SparseMatrix<double> identity(matrix.rows(), matrix.cols());
+    const double shift = 1e-10 * matrix->diagonal().cwiseAbs().maxCoeff();
+    Eigen::SparseMatrix<double> identity(matrix->rows(), matrix->cols());
     identity.setIdentity();
-    coarsest_.compute(matrix + coarsest_shift_ * identity);
+    coarsest_.compute(*matrix + shift * identity);
     if (coarsest_.info() != Eigen::Success)
       throw std::runtime_error("the multilevel Schwarz preconditioner's coarsest level is not positive definite");
   }

@@ -7,19 +7,23 @@
 // Level 0 is the system itself. On each level, blocks of the unknowns
 // whose B-splines are supported on one grid cell (per component: a
 // displacement's components have blocks of their own), at most (n + 1)^D
-// of them, inverted densely. Cut cells' blocks absorb the tiny B-spline
+// of them, inverted densely (as A_b^-1 = G^T G, G = L^-1 of the block's
+// Cholesky factor L, in single precision: positive definite whatever the
+// rounding). Cut cells' blocks absorb the tiny B-spline
 // shares that ruin the diagonal's scaling: point smoothers (Jacobi) fail
 // there, at any number of levels. Blocks that are equal (inside cells with
 // constant coefficients) share one inverse, applied to 64 blocks at a time
 // as one matrix product, and of those only the blocks on cells with even
 // coordinates are kept: blocks two cells apart still overlap, at an eighth
-// of the cost. Every distinct block (near the boundary) is kept.
+// of the cost. Every distinct block (near the boundary) is kept, unless
+// they would fill a quarter of the memory available.
 //
 // The next level comes from the B-splines' two-scale relation: a B-spline
 // of width 2h is a sum of n + 2 B-splines of width h per axis, with
 // weights binom(n + 1, l) / 2^n. Its prolongation P keeps the fine
 // unknowns only (the WEB extension carries the rest), the coarse matrix is
-// P^T A P, and coarse B-splines left with under a tenth of themselves in
+// P^T A P (as S + S^T - P^T D P, S = P^T L P for the lower triangle L),
+// and coarse B-splines left with under a tenth of themselves in
 // the fine unknowns are dropped (they would make P^T A P nearly singular).
 // The coarsest level, at most 2,000 unknowns, is solved by sparse Cholesky.
 //
@@ -87,7 +91,6 @@ class SchwarzPreconditioner {
   std::vector<Level> levels_;
   Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> coarsest_;
   Eigen::Index coarsest_size_ = 0;
-  double coarsest_shift_ = 0.0;
 
   Eigen::VectorXd apply(std::size_t level, const Eigen::VectorXd& r) const;
 };

@@ -12,9 +12,9 @@
 //     band            relevant B-splines x S doubles, one per thread
 //     system          2 x relevant x S entries of 12 bytes (the extended matrix and its build)
 //     direct solve    the system's entries again times a fill-in factor (4 in 2D, 20 in 3D)
-//     Schwarz (3D)    the whole matrix (half the system term) while the coarse levels are built,
-//                     and (2n + 1) x cut cells distinct blocks of q^2D doubles (per component):
-//                     blocks differ near the boundary only (measured 1.2 and 5.6 per cut cell)
+//     Schwarz (3D)    the products that build the coarse levels (a quarter of the system term),
+//                     and (2n + 1) x cut cells distinct blocks of q^2D floats (per component):
+//                     blocks differ near the boundary only (measured 1.2 to 27 per cut cell)
 //
 // A vector problem of c components per B-spline (elasticity.hpp) has c^2
 // times the band and the system.
