@@ -514,8 +514,7 @@ SchwarzPreconditioner::SchwarzPreconditioner(const Eigen::SparseMatrix<double>& 
   while (matrix->rows() > kCoarsestUnknowns && static_cast<int>(levels_.size()) < kMostLevels) {
     SplinePlacement coarse;
     Eigen::SparseMatrix<double> p = coarse_prolongation(here, coarse);
-    if (p.cols() == 0 || static_cast<double>(p.cols()) > kLeastCoarsening * static_cast<double>(matrix->rows()))
-      break;
+    if (p.cols() == 0 || static_cast<double>(p.cols()) > kLeastCoarsening * static_cast<double>(matrix->rows())) break;
     Level level;
     level.blocks = cell_blocks(*matrix, here);
     Eigen::SparseMatrix<double> next = galerkin_product(*matrix, p);
