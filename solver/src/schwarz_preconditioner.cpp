@@ -174,7 +174,10 @@ std::vector<Hash> column_hashes(const Eigen::SparseMatrix<double>& lower, const 
       const auto& row = placement.index[static_cast<std::size_t>(e.row())];
       mix.add(static_cast<std::uint64_t>(placement.component[static_cast<std::size_t>(e.row())] + 1));
       for (int k = 0; k < 3; ++k) mix.add(static_cast<std::uint64_t>(row[k] - at[k]));
-      mix.add(static_cast<std::uint64_t>(static_cast<std::int64_t>(std::nearbyint(e.value() * per_unit))));
+      // Rounded and clamped into int64's range (an entry may dwarf its column's diagonal).
+      const double q = std::nearbyint(e.value() * per_unit);
+      mix.add(static_cast<std::uint64_t>(std::isfinite(q) ? static_cast<std::int64_t>(std::clamp(q, -0x1p62, 0x1p62))
+                                                          : std::int64_t{0}));
     }
     hashes[static_cast<std::size_t>(u)] = mix.value();
   }
