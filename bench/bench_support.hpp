@@ -1,6 +1,8 @@
 #pragma once
 // Small helpers shared by the benchmark programs.
 
+#include <malloc.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,8 +11,13 @@
 
 namespace sage::bench {
 
-/// Starts the peak below over (Linux: writing 5 to clear_refs resets VmHWM).
-inline void reset_peak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+/// Starts the peak below over (Linux: writing 5 to clear_refs resets VmHWM
+/// to the resident size), after handing the memory freed by earlier runs
+/// back to the system: kept by malloc, it would count in every later peak.
+inline void reset_peak() {
+  malloc_trim(0);
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
 
 /// Peak resident set size of this process since the last reset_peak(), in MB (Linux).
 inline double peak_megabytes() {
