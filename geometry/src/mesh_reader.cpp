@@ -85,9 +85,21 @@ std::vector<Triangle> triangulate_polygon(const Soup& soup, const std::vector<st
     fail(soup.path, "face " + std::to_string(face) + " (vertices " + vertex_list(polygon) +
                         ") is a non-convex polygon that could not be triangulated");
   for (auto f : one.faces()) {
+    // CGAL may report success on a self-intersecting polygon yet leave a
+    // face that is no triangle (even a cycle that does not close): count
+    // its corners up to four, no further.
     Triangle t{};
-    int k = 0;
-    for (auto v : one.vertices_around_face(one.halfedge(f))) t[k++] = polygon[v.idx()];
+    std::size_t corners = 0;
+    for (auto v : one.vertices_around_face(one.halfedge(f))) {
+      if (corners == 3) {
+        corners = 4;
+        break;
+      }
+      t[corners++] = polygon[v.idx()];
+    }
+    if (corners != 3)
+      fail(soup.path, "face " + std::to_string(face) + " (vertices " + vertex_list(polygon) +
+                          ") is a non-convex polygon that could not be triangulated (it may cross itself)");
     out.push_back(t);
   }
   return out;

@@ -889,6 +889,18 @@ TEST(MeshErrors, NonPlanarPolygon) {
   expect_error(write_off("bent_quad.off", v, f), {"face 0", "not planar"});
 }
 
+TEST(MeshErrors, SelfCrossingPolygonFace) {
+  // A hexagonal prism whose bottom face crosses itself (vertex 1 pulled out
+  // to x = 21, found by the mesh fuzzer): CGAL's triangulation reports
+  // success yet leaves a face that is no triangle (its corners reading
+  // past a fixed array of three before).
+  expect_error(write_file("crossing_hexagon.off",
+                          "OFF\n12 8 0\n0 0 0\n21 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n0 0 1\n2 0 1\n2 1 1\n0 1 "
+                          "1\n1 2 1\n0 2 1\n6 5 4 3 2 1 0\n6 6 7 8 9 10 11\n4 0 1 7 6\n4 1 2 8 7\n4 2 3 9 8\n4 3 4 10 "
+                          "9\n4 4 5 11 10\n4 5 0 6 11\n"),
+               {"face 1", "could not be triangulated"});
+}
+
 TEST(MeshErrors, UnreadableAndMalformedFiles) {
   expect_error((scratch() / "missing.off").string(), {"cannot open"});
   // OFF and PLY: sage's readers (more in mesh_reader_test.cpp).
