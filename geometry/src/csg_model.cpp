@@ -244,7 +244,9 @@ class Reader : JsonFields<ModelError> {
     BlendFunction fb{};
     try {
       const double number = number_at(b, "function", here);
-      if (number != std::floor(number)) fail(here + "/function", "must be an integer 1 to 6");
+      // Checked before the cast: a number beyond int's range does not convert.
+      if (number != std::floor(number) || number < 1 || number > 6)
+        fail(here + "/function", "must be an integer 1 to 6");
       fb = blend_function_from_number(static_cast<int>(number));
     } catch (const std::invalid_argument& e) {
       fail(here + "/function", e.what());

@@ -105,6 +105,9 @@ TEST(SoftModelErrors, BadBlendsNameTheirPlace) {
   expect_error(R"({"op": "union", "blend": {"function": 7, "amount": 0.1})" + args,
                {"/field/blend/function", "1 to 6"});
   expect_error(R"({"op": "union", "blend": {"function": 2.5, "amount": 0.1})" + args, {"/field/blend/function"});
+  // Beyond int's range (found by the model fuzzer: the cast came before the check).
+  expect_error(R"({"op": "union", "blend": {"function": 5.5e16, "amount": 0.1})" + args,
+               {"/field/blend/function", "1 to 6"});
   expect_error(R"({"op": "union", "blend": {"function": 1, "amount": -1})" + args, {"/field/blend/amount", ">= 0"});
   expect_error(R"({"op": "union", "blend": {"function": 1})" + args, {"/field/blend", "\"amount\""});
   expect_error(R"({"op": "union", "blend": {"function": 1, "amount": 1, "x": 1})" + args, {"/field/blend/x"});
