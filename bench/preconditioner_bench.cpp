@@ -27,6 +27,7 @@
 #include <sage/solver/manufactured.hpp>
 #include <sage/solver/poisson.hpp>
 
+#include "bench_problems.hpp"
 #include "bench_support.hpp"
 
 #include <elastic_benchmarks.hpp>
@@ -131,23 +132,26 @@ void compare(const std::function<SolveReport(const SolverOptions&)>& solve, int 
   std::fflush(stdout);
 }
 
-template <class Problem>
-void poisson_case(const char* title, const Problem& problem, const std::vector<int>& degrees,
-                  const std::vector<int>& cells) {
+/// The table of one problem: `solve(problem, options)` returns the report.
+template <class Problem, class Solve>
+void solve_case(const char* title, const Problem& problem, const std::vector<int>& degrees,
+                const std::vector<int>& cells, Solve&& solve) {
   print_header(title);
   const double longest = problem.domain.longest_side();
   for (const int degree : degrees)
-    for (const int n : cells)
-      compare([&](const SolverOptions& o) { return solve_poisson<3>(problem, o).report; }, degree, n, longest);
+    for (const int n : cells) compare([&](const SolverOptions& o) { return solve(problem, o); }, degree, n, longest);
+}
+
+void poisson_case(const char* title, const PoissonProblem& problem, const std::vector<int>& degrees,
+                  const std::vector<int>& cells) {
+  solve_case(title, problem, degrees, cells,
+             [](const PoissonProblem& p, const SolverOptions& o) { return solve_poisson<3>(p, o).report; });
 }
 
 void elasticity_case(const char* title, const ElasticityProblem& problem, const std::vector<int>& degrees,
                      const std::vector<int>& cells) {
-  print_header(title);
-  const double longest = problem.domain.longest_side();
-  for (const int degree : degrees)
-    for (const int n : cells)
-      compare([&](const SolverOptions& o) { return solve_elasticity<3>(problem, o).report; }, degree, n, longest);
+  solve_case(title, problem, degrees, cells,
+             [](const ElasticityProblem& p, const SolverOptions& o) { return solve_elasticity<3>(p, o).report; });
 }
 
 PoissonProblem unit_ball() {
@@ -161,21 +165,6 @@ PoissonProblem unit_ball() {
   p.source = manufactured_source(exact, p.conductivity, 3);
   p.exact = exact;
   p.rest.value = exact + 0.5 * (1.0 - square(x) - square(y) - square(z));  // not u inside
-  return p;
-}
-
-/// u = 0 on a mesh's surface, f = 1.
-PoissonProblem mesh_part(const std::string& path) {
-  const geometry::Model model = geometry::load_model(path);
-  PoissonProblem p;
-  p.domain.dimension = 3;
-  p.domain.field = model.field;
-  p.domain.boundary_mesh = model.surface;
-  for (int a = 0; a < 3; ++a) {
-    p.domain.min[a] = model.bounds->min[a];
-    p.domain.max[a] = model.bounds->max[a];
-  }
-  p.source = 1.0;
   return p;
 }
 
@@ -211,11 +200,13 @@ int main(int argc, char** argv) {
     poisson_case("Plate (-1,1)^2 x (0,1) minus cylinder r = 0.4: Dirichlet, Neumann, Robin", plate_with_hole(), {2, 3},
                  {16, 32, 48});
   if (wanted(cases, "joint"))
-    poisson_case("joint.off (CAD part, mesh), u = 0, f = 1", mesh_part(sage::bench::shared_data("meshes/joint.off")),
+    poisson_case("joint.off (CAD part, mesh), u = 0, f = 1",
+                 sage::bench::zero_dirichlet(geometry::load_model(sage::bench::shared_data("meshes/joint.off"))),
                  {2, 3}, {16, 24, 32});
   if (wanted(cases, "thin"))
     poisson_case("occt_sh1.stl (thin-walled part, mesh), u = 0, f = 1",
-                 mesh_part(sage::bench::shared_data("meshes/occt_sh1.stl")), {2}, {48, 64, 96});
+                 sage::bench::zero_dirichlet(geometry::load_model(sage::bench::shared_data("meshes/occt_sh1.stl"))),
+                 {2}, {48, 64, 96});
   if (wanted(cases, "bracket")) {
     const problems::ProblemFile file =
         problems::read_problem_file(std::string(SAGE_SOURCE_DIR) + "/examples/problems/bracket_3d.json");

@@ -19,6 +19,7 @@
 #include <sage/geometry/model.hpp>
 #include <sage/solver/poisson.hpp>
 
+#include "bench_problems.hpp"
 #include "bench_support.hpp"
 
 #include <chrono>
@@ -39,21 +40,9 @@ using namespace sage;
 using namespace sage::solver;
 using sage::bench::peak_megabytes;
 using sage::bench::reset_peak;
+using sage::bench::zero_dirichlet;
 
 std::string shared(const std::string& name) { return sage::bench::shared_data(name); }
-
-PoissonProblem zero_dirichlet(const geometry::Model& model) {
-  PoissonProblem p;
-  p.domain.dimension = model.dimension;
-  p.domain.field = model.field;
-  p.domain.boundary_mesh = model.surface;
-  for (int a = 0; a < 3; ++a) {
-    p.domain.min[a] = model.bounds->min[a];
-    p.domain.max[a] = model.bounds->max[a];
-  }
-  p.source = 1.0;
-  return p;
-}
 
 /// J = the integral of u, from the solver's own volume rule.
 template <int D>

@@ -317,6 +317,9 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
   for (const int u : blocks.members) blocks.share[u] += 1.0;
   for (Eigen::Index u = 0; u < blocks.share.size(); ++u)
     blocks.share[u] = blocks.share[u] > 0.0 ? 1.0 / std::sqrt(blocks.share[u]) : 0.0;
+  for (std::size_t f = 0; f < blocks.users.size(); ++f)
+    for (std::size_t k = 0; k < blocks.users[f].size(); k += kBlocksPerProduct)
+      blocks.batches.push_back({static_cast<int>(f), k, std::min(blocks.users[f].size(), k + kBlocksPerProduct)});
   blocks.factors.resize(representative.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (std::size_t f = 0; f < representative.size(); ++f) {
@@ -340,15 +343,7 @@ void add_blocks(const SchwarzPreconditioner::Blocks& blocks, const Eigen::Vector
                 Eigen::VectorXd& result) {
   const Eigen::VectorXd r = blocks.share.cwiseProduct(unscaled_r);
   Eigen::VectorXd z = Eigen::VectorXd::Zero(r.size());
-  // Work items: (inverse, first user, last user).
-  struct Item {
-    int inverse;
-    std::size_t first, last;
-  };
-  std::vector<Item> items;
-  for (std::size_t f = 0; f < blocks.users.size(); ++f)
-    for (std::size_t k = 0; k < blocks.users[f].size(); k += kBlocksPerProduct)
-      items.push_back({static_cast<int>(f), k, std::min(blocks.users[f].size(), k + kBlocksPerProduct)});
+  const std::vector<SchwarzPreconditioner::Blocks::Batch>& items = blocks.batches;
   const int threads = thread_count();
   std::vector<Eigen::VectorXd> partial(static_cast<std::size_t>(threads - 1));
 #pragma omp parallel
@@ -363,7 +358,7 @@ void add_blocks(const SchwarzPreconditioner::Blocks& blocks, const Eigen::Vector
     Eigen::VectorXf vector;
 #pragma omp for schedule(static)
     for (std::size_t w = 0; w < items.size(); ++w) {
-      const Item& item = items[w];
+      const SchwarzPreconditioner::Blocks::Batch& item = items[w];
       const Eigen::MatrixXf& factor = blocks.factors[static_cast<std::size_t>(item.inverse)];
       const std::vector<int>& users = blocks.users[static_cast<std::size_t>(item.inverse)];
       const auto m = factor.rows();

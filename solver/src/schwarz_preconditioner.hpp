@@ -79,8 +79,14 @@ class SchwarzPreconditioner {
     std::vector<Eigen::MatrixXf> factors;  // of the distinct blocks' inverses: A_b^-1 = G^T G, G = L^-1
     std::vector<std::vector<int>> users;   // per inverse: its blocks
     Eigen::VectorXd share;                 // per unknown: 1 / sqrt(the blocks it lies in), or 0
-    std::vector<int> lone;                 // unknowns in no block
-    Eigen::VectorXd lone_inverse;          // their inverse diagonal entries, scaled
+    /// The application's work, built once: up to kBlocksPerProduct users of one inverse each.
+    struct Batch {
+      int inverse;
+      std::size_t first, last;  // users[inverse][first .. last)
+    };
+    std::vector<Batch> batches;
+    std::vector<int> lone;         // unknowns in no block
+    Eigen::VectorXd lone_inverse;  // their inverse diagonal entries, scaled
   };
 
  private:
