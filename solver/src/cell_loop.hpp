@@ -6,9 +6,11 @@
 // component, or the Robin structure's second function) and its right
 // sides; the loop scatters them into the band layout of
 // extended_system.hpp, one band per block pair on or below the diagonal.
-// Each thread adds into arrays of its own (the first thread into the
-// result itself), summed in thread order: cells go to threads in a fixed
-// pattern, so the same run gives the same bits every time.
+// The cells go in (n + 1)^D colours, by their index modulo n + 1 on each
+// axis: two cells of one colour share no B-spline, so the threads add
+// into the one band with no race and no copy of their own (a copy per
+// thread would double the largest array of the assembly), and every sum
+// is taken in the colours' order: the same bits on any number of threads.
 //
 // A kernel (PoissonKernel, ElasticityKernel) is copied once per thread and
 // provides:
@@ -64,55 +66,58 @@ CellSums assemble_cells(const SplineBasis<D>& basis, const std::vector<std::size
   CellSums sums;
   sums.bands.assign(block_pair(blocks, 0), std::vector<double>(band_size, 0.0));
   sums.right_sides.assign(static_cast<std::size_t>(sides * blocks), std::vector<double>(relevant, 0.0));
+  // The cells with points, by colour.
+  int colours = 1;
+  for (int a = 0; a < D; ++a) colours *= n + 1;
+  std::vector<std::size_t> colour_start(static_cast<std::size_t>(colours) + 1, 0), order;
+  auto colour_of = [&](std::size_t k) {
+    const auto index = grid.cell_index(candidates[k]);
+    int colour = 0;
+    for (int a = D - 1; a >= 0; --a) colour = colour * (n + 1) + index[a] % (n + 1);
+    return static_cast<std::size_t>(colour);
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k)
+    if (!rules.volume[k].empty()) ++colour_start[colour_of(k) + 1];
+  for (int c = 0; c < colours; ++c) colour_start[c + 1] += colour_start[c];
+  order.resize(colour_start.back());
+  {
+    std::vector<std::size_t> fill(colour_start.begin(), colour_start.end() - 1);
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      if (!rules.volume[k].empty()) order[fill[colour_of(k)]++] = k;
+  }
 #pragma omp parallel
   {
-#ifdef _OPENMP
-    const bool first_thread = omp_get_thread_num() == 0;
-#else
-    const bool first_thread = true;
-#endif
     Kernel own_kernel(kernel);
-    CellSums own_storage;
-    if (!first_thread) {
-      own_storage.bands.assign(sums.bands.size(), std::vector<double>(band_size, 0.0));
-      own_storage.right_sides.assign(sums.right_sides.size(), std::vector<double>(relevant, 0.0));
-    }
-    CellSums& own = first_thread ? sums : own_storage;
     Eigen::MatrixXd matrix(blocks * local, blocks * local), right(blocks * local, sides);
     std::vector<long long> rows(static_cast<std::size_t>(local));
-#pragma omp for schedule(static, 8) nowait
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-      if (rules.volume[k].empty()) continue;
-      const auto index = grid.cell_index(candidates[k]);
-      const bool tabulated =
-          kinds[candidates[k]] == CellKind::Inside && rules.volume[k].size() == static_cast<std::size_t>(table.points);
-      const int touched =
-          own_kernel.cell(CellView<D>{index, tabulated, rules.volume[k], rules.surface[k], table}, matrix, right);
-      for (int j = 0; j < local; ++j)
-        rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(index, n, j))];
-      // Fill the upper triangle: column j is then row j, read contiguously.
-      matrix.template triangularView<Eigen::StrictlyUpper>() = matrix.transpose();
-      for (int b = 0; b < touched; ++b)
-        for (int j = 0; j < local; ++j) {
-          const auto r = static_cast<std::size_t>(rows[j]);
-          for (int s = 0; s < sides; ++s)
-            own.right_sides[static_cast<std::size_t>(s * blocks + b)][r] += right(b * local + j, s);
-          const std::size_t slot = r * static_cast<std::size_t>(layout.size) + layout.centre - layout.position[j];
-          for (int c = 0; c <= b; ++c) {
-            double* row = own.bands[block_pair(b, c)].data() + slot;
-            const double* column = matrix.col(b * local + j).data() + c * local;
-            for (int l = 0; l < local; ++l) row[layout.position[l]] += column[l];
+    for (int colour = 0; colour < colours; ++colour) {
+#pragma omp for schedule(dynamic, 2)
+      for (std::size_t o = colour_start[colour]; o < colour_start[colour + 1]; ++o) {
+        const std::size_t k = order[o];
+        const auto index = grid.cell_index(candidates[k]);
+        const bool tabulated = kinds[candidates[k]] == CellKind::Inside &&
+                               rules.volume[k].size() == static_cast<std::size_t>(table.points);
+        const int touched =
+            own_kernel.cell(CellView<D>{index, tabulated, rules.volume[k], rules.surface[k], table}, matrix, right);
+        for (int j = 0; j < local; ++j)
+          rows[j] = basis.relevant_of[grid.spline_linear(LocalSplines<D>::global_index(index, n, j))];
+        // Fill the upper triangle: column j is then row j, read contiguously.
+        matrix.template triangularView<Eigen::StrictlyUpper>() = matrix.transpose();
+        for (int b = 0; b < touched; ++b)
+          for (int j = 0; j < local; ++j) {
+            const auto r = static_cast<std::size_t>(rows[j]);
+            for (int s = 0; s < sides; ++s)
+              sums.right_sides[static_cast<std::size_t>(s * blocks + b)][r] += right(b * local + j, s);
+            const std::size_t slot = r * static_cast<std::size_t>(layout.size) + layout.centre - layout.position[j];
+            for (int c = 0; c <= b; ++c) {
+              double* row = sums.bands[block_pair(b, c)].data() + slot;
+              const double* column = matrix.col(b * local + j).data() + c * local;
+              for (int l = 0; l < local; ++l) row[layout.position[l]] += column[l];
+            }
           }
-        }
+      }
     }
-    in_thread_order([&] {
-      kernel.merge(own_kernel);
-      if (first_thread) return;
-      for (std::size_t p = 0; p < sums.bands.size(); ++p)
-        for (std::size_t i = 0; i < band_size; ++i) sums.bands[p][i] += own.bands[p][i];
-      for (std::size_t v = 0; v < sums.right_sides.size(); ++v)
-        for (std::size_t i = 0; i < relevant; ++i) sums.right_sides[v][i] += own.right_sides[v][i];
-    });
+    in_thread_order([&] { kernel.merge(own_kernel); });
   }
   return sums;
 }

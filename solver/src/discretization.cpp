@@ -12,10 +12,6 @@
 #include <stdexcept>
 #include <string>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace sage::solver {
 
 namespace {
@@ -88,12 +84,8 @@ void check_memory(const BackgroundGrid<D>& grid, const std::vector<std::size_t>&
       mark = 1;
     }
   }
-  int threads = 1;
-#ifdef _OPENMP
-  threads = omp_get_max_threads();
-#endif
   const MemoryEstimate estimate = estimate_memory(D, grid.degree, report.cells_inside, report.cells_cut, relevant_count,
-                                                  threads, needs.direct_solve, needs.components);
+                                                  needs.direct_solve, needs.components);
   report.memory_estimate_mb = estimate.megabytes;
   if (limit_mb > 0.0 && estimate.megabytes > limit_mb)
     throw std::runtime_error("the problem is too large for this machine: it needs " + estimate.summary() + ", and " +

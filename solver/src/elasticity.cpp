@@ -178,16 +178,24 @@ Eigen::SparseMatrix<double> elastic_system(const SplineBasis<D>& basis, Elastici
   // in order, so that only that component's blocks exist beside the system.
   Eigen::SparseMatrix<double> system(D * N, D * N);
   for (int d = 0; d < D; ++d) {
+    // Swapped in: Eigen 3.4's SparseMatrix has no move constructor, and a copy would double each block.
     std::vector<Eigen::SparseMatrix<double>> blocks;
+    blocks.reserve(D);
     for (int c = d; c < D; ++c) {
       std::vector<double>& band = assembled.bands[block_pair(c, d)];
-      blocks.push_back(c == d ? extended_system(basis, band)
-                              : Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, band) * E));
+      Eigen::SparseMatrix<double> block = c == d ? extended_system(basis, band) : extended_product(basis, band);
+      blocks.emplace_back().swap(block);
       std::vector<double>().swap(band);
     }
-    std::size_t entries = 0;
-    for (const auto& block : blocks) entries += static_cast<std::size_t>(block.nonZeros());
-    system.reserve(static_cast<Eigen::Index>(static_cast<std::size_t>(system.nonZeros()) + entries));
+    // Reserved once, for D times the first component's columns: the blocks
+    // share one pattern, so that bounds the whole (the lower triangle's
+    // later components have fewer blocks), and growing the arrays would
+    // copy them beside the new. Pages never written cost no memory.
+    if (d == 0) {
+      std::size_t entries = 0;
+      for (const auto& block : blocks) entries += static_cast<std::size_t>(block.nonZeros());
+      system.reserve(static_cast<Eigen::Index>(D * entries));
+    }
     for (Eigen::Index col = 0; col < N; ++col) {
       system.startVec(d * N + col);
       for (int c = d; c < D; ++c)

@@ -1,11 +1,16 @@
 #include <sage/solver/extended_system.hpp>
 
+#include "threads.hpp"
+
 #include <algorithm>
 #include <stdexcept>
 
 namespace sage::solver {
 
 namespace {
+
+/// Columns of the product computed between two appends to the result.
+constexpr Eigen::Index kColumnsAtOnce = 4096;
 
 struct Entry {
   int row;
@@ -38,25 +43,27 @@ class Accumulator {
   std::vector<int> list_;
 };
 
-/// A's rows without the empty slots: row r's (relevant column, value)
-/// pairs are entries[start[r] .. start[r + 1]).
-struct BandRows {
-  std::vector<std::size_t> start;
-  std::vector<Entry> entries;
+/// Where the band's slots point: row r's slot o is the relevant spline
+/// relevant_of[relevant[r] + shift[o]] (slots of splines that are not
+/// relevant hold 0). Read in place: a list of the band's entries would
+/// take twice the band's memory.
+struct BandLayout {
+  int stencil = 1;
+  std::vector<long long> shift;
 };
 
 template <int D>
-BandRows band_rows(const SplineBasis<D>& basis, const std::vector<double>& band) {
+BandLayout band_layout(const SplineBasis<D>& basis, const std::vector<double>& band) {
   const BackgroundGrid<D>& grid = basis.grid;
   const int n = grid.degree, width = 2 * n + 1;
-  int stencil = 1;
-  for (int a = 0; a < D; ++a) stencil *= width;
+  BandLayout layout;
+  for (int a = 0; a < D; ++a) layout.stencil *= width;
   const std::size_t relevant = basis.relevant.size();
-  if (band.size() != relevant * static_cast<std::size_t>(stencil) ||
+  if (band.size() != relevant * static_cast<std::size_t>(layout.stencil) ||
       static_cast<std::size_t>(basis.extension.rows()) != relevant)
     throw std::invalid_argument("the band does not match the basis");
-  std::vector<long long> shift(static_cast<std::size_t>(stencil));  // slot -> global spline offset
-  for (int o = 0; o < stencil; ++o) {
+  layout.shift.resize(static_cast<std::size_t>(layout.stencil));
+  for (int o = 0; o < layout.stencil; ++o) {
     long long s = 0, stride = 1;
     int rest = o;
     for (int a = 0; a < D; ++a) {
@@ -64,102 +71,106 @@ BandRows band_rows(const SplineBasis<D>& basis, const std::vector<double>& band)
       rest /= width;
       stride *= grid.splines_along(a);
     }
-    shift[static_cast<std::size_t>(o)] = s;
+    layout.shift[static_cast<std::size_t>(o)] = s;
   }
-  BandRows rows;
-  rows.start.assign(relevant + 1, 0);
-  for (std::size_t r = 0; r < relevant; ++r) {
-    const double* row = band.data() + r * static_cast<std::size_t>(stencil);
-    const auto spline = static_cast<long long>(basis.relevant[r]);
-    for (int o = 0; o < stencil; ++o) {
-      if (row[o] == 0.0) continue;
-      const long long j = basis.relevant_of[static_cast<std::size_t>(spline + shift[static_cast<std::size_t>(o)])];
-      rows.entries.push_back({static_cast<int>(j), row[o]});
-    }
-    rows.start[r + 1] = rows.entries.size();
-  }
-  return rows;
+  return layout;
 }
 
-}  // namespace
-
+/// Column p of the result is row p of E^T A E (E^T (row p of A E)^T:
+/// rows of A are what the band holds), so the result is (E^T A E)^T, or
+/// E^T A E itself when A is symmetric; with `lower_only`, only its rows
+/// i >= p. Rows sorted in each column.
 template <int D>
-Eigen::SparseMatrix<double> band_matrix(const SplineBasis<D>& basis, const std::vector<double>& band) {
-  const BandRows rows = band_rows(basis, band);
-  const auto relevant = static_cast<Eigen::Index>(basis.relevant.size());
-  Eigen::SparseMatrix<double, Eigen::RowMajor> a(relevant, relevant);
-  a.reserve(static_cast<Eigen::Index>(rows.entries.size()));
-  for (Eigen::Index r = 0; r < relevant; ++r)
-    for (std::size_t k = rows.start[static_cast<std::size_t>(r)]; k < rows.start[static_cast<std::size_t>(r) + 1]; ++k)
-      a.insert(r, rows.entries[k].row) = rows.entries[k].value;
-  return a;
-}
-
-template <int D>
-Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band) {
-  const BandRows rows = band_rows(basis, band);
-  const std::vector<std::size_t>& a_start = rows.start;
-  const std::vector<Entry>& a_entries = rows.entries;
+Eigen::SparseMatrix<double> extended_rows(const SplineBasis<D>& basis, const std::vector<double>& band,
+                                          bool lower_only) {
+  const BandLayout layout = band_layout(basis, band);
+  const auto stencil = static_cast<std::size_t>(layout.stencil);
   const std::size_t relevant = basis.relevant.size();
   const Eigen::SparseMatrix<double>& E = basis.extension;
   const Eigen::Index unknowns = E.cols();
   const Eigen::SparseMatrix<double, Eigen::RowMajor> rows_of_e = E;
 
-  // Column p of E^T A E is E^T (A e) with e = E(:, p): A e from the rows
-  // of A at e's splines (A is symmetric), then E^T of that; only rows
-  // i >= p (the lower triangle).
-  std::vector<std::vector<Entry>> lower(static_cast<std::size_t>(unknowns));
+  // Row p of A E from the rows of A at e = E(:, p)'s splines, then E^T of
+  // it; kColumnsAtOnce columns at a time on all cores, appended in order.
+  Eigen::SparseMatrix<double> product(unknowns, unknowns);
+  std::vector<std::vector<Entry>> columns(static_cast<std::size_t>(std::min(kColumnsAtOnce, unknowns)));
+  std::vector<Accumulator> spline_sums, unknown_sums;  // one of each per thread, kept from chunk to chunk
+  for (Eigen::Index first = 0; first < unknowns; first += kColumnsAtOnce) {
+    const Eigen::Index last = std::min(unknowns, first + kColumnsAtOnce);
 #pragma omp parallel
-  {
-    Accumulator splines(relevant), result(static_cast<std::size_t>(unknowns));
+    {
+#pragma omp single
+      while (spline_sums.size() < static_cast<std::size_t>(team_size())) {
+        spline_sums.emplace_back(relevant);
+        unknown_sums.emplace_back(static_cast<std::size_t>(unknowns));
+      }
+      Accumulator& splines = spline_sums[static_cast<std::size_t>(thread_number())];
+      Accumulator& result = unknown_sums[static_cast<std::size_t>(thread_number())];
 #pragma omp for schedule(dynamic, 32)
-    for (Eigen::Index p = 0; p < unknowns; ++p) {
-      for (Eigen::SparseMatrix<double>::InnerIterator e(E, p); e; ++e) {
-        const auto r = static_cast<std::size_t>(e.row());
-        for (std::size_t k = a_start[r]; k < a_start[r + 1]; ++k)
-          splines.add(static_cast<std::size_t>(a_entries[k].row), e.value() * a_entries[k].value);
+      for (Eigen::Index p = first; p < last; ++p) {
+        for (Eigen::SparseMatrix<double>::InnerIterator e(E, p); e; ++e) {
+          const auto r = static_cast<std::size_t>(e.row());
+          const double* row = band.data() + r * stencil;
+          const auto spline = static_cast<long long>(basis.relevant[r]);
+          for (std::size_t o = 0; o < stencil; ++o)
+            if (row[o] != 0.0)
+              splines.add(
+                  static_cast<std::size_t>(basis.relevant_of[static_cast<std::size_t>(spline + layout.shift[o])]),
+                  e.value() * row[o]);
+        }
+        const int least = lower_only ? static_cast<int>(p) : 0;
+        for (const int j : splines.list()) {
+          const double y = splines.take(j);
+          // Row j of E, columns increasing: walk back from the last while >= least.
+          const auto begin = rows_of_e.outerIndexPtr()[j], end = rows_of_e.outerIndexPtr()[j + 1];
+          for (auto t = end - 1; t >= begin && rows_of_e.innerIndexPtr()[t] >= least; --t)
+            result.add(static_cast<std::size_t>(rows_of_e.innerIndexPtr()[t]), rows_of_e.valuePtr()[t] * y);
+        }
+        splines.list().clear();
+        std::vector<int>& list = result.list();
+        std::sort(list.begin(), list.end());
+        std::vector<Entry>& column = columns[static_cast<std::size_t>(p - first)];
+        column.clear();
+        for (const int i : list) column.push_back({i, result.take(i)});
+        list.clear();
       }
-      for (const int j : splines.list()) {
-        const double y = splines.take(j);
-        // Row j of E, columns increasing: walk back from the last while >= p.
-        const auto begin = rows_of_e.outerIndexPtr()[j], end = rows_of_e.outerIndexPtr()[j + 1];
-        for (auto t = end - 1; t >= begin && rows_of_e.innerIndexPtr()[t] >= p; --t)
-          result.add(static_cast<std::size_t>(rows_of_e.innerIndexPtr()[t]), rows_of_e.valuePtr()[t] * y);
-      }
-      splines.list().clear();
-      std::vector<int>& list = result.list();
-      std::sort(list.begin(), list.end());
-      std::vector<Entry>& column = lower[static_cast<std::size_t>(p)];
-      column.reserve(list.size());
-      for (const int i : list) column.push_back({i, result.take(i)});
-      list.clear();
+    }
+    if (first == 0) {
+      // Reserved once from the first chunk's mean, with room to spare:
+      // pages never written cost no memory, while growing the arrays
+      // would copy them beside the new ones.
+      std::size_t chunk = 0;
+      for (Eigen::Index p = first; p < last; ++p) chunk += columns[static_cast<std::size_t>(p - first)].size();
+      product.reserve(static_cast<Eigen::Index>(2.0 * static_cast<double>(chunk) / static_cast<double>(last - first) *
+                                                static_cast<double>(unknowns)) +
+                      1024);
+    }
+    for (Eigen::Index p = first; p < last; ++p) {
+      product.startVec(p);
+      for (const Entry& entry : columns[static_cast<std::size_t>(p - first)])
+        product.insertBack(entry.row, p) = entry.value;
     }
   }
+  product.finalize();
+  return product;
+}
 
-  Eigen::SparseMatrix<double> system(unknowns, unknowns);
-  std::size_t total = 0;
-  for (const auto& column : lower) total += column.size();
-  system.resizeNonZeros(static_cast<Eigen::Index>(total));
-  int* outer = system.outerIndexPtr();
-  int* inner = system.innerIndexPtr();
-  double* values = system.valuePtr();
-  std::size_t k = 0;
-  for (Eigen::Index p = 0; p < unknowns; ++p) {
-    outer[p] = static_cast<int>(k);
-    for (const Entry& entry : lower[static_cast<std::size_t>(p)]) {
-      inner[k] = entry.row;
-      values[k] = entry.value;
-      ++k;
-    }
-    std::vector<Entry>().swap(lower[static_cast<std::size_t>(p)]);
-  }
-  outer[unknowns] = static_cast<int>(k);
-  return system;
+}  // namespace
+
+template <int D>
+Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band) {
+  return extended_rows(basis, band, true);
+}
+
+template <int D>
+Eigen::SparseMatrix<double> extended_product(const SplineBasis<D>& basis, const std::vector<double>& band) {
+  Eigen::SparseMatrix<double> transposed = extended_rows(basis, band, false);
+  return transposed.transpose();
 }
 
 template Eigen::SparseMatrix<double> extended_system<2>(const SplineBasis<2>&, const std::vector<double>&);
 template Eigen::SparseMatrix<double> extended_system<3>(const SplineBasis<3>&, const std::vector<double>&);
-template Eigen::SparseMatrix<double> band_matrix<2>(const SplineBasis<2>&, const std::vector<double>&);
-template Eigen::SparseMatrix<double> band_matrix<3>(const SplineBasis<3>&, const std::vector<double>&);
+template Eigen::SparseMatrix<double> extended_product<2>(const SplineBasis<2>&, const std::vector<double>&);
+template Eigen::SparseMatrix<double> extended_product<3>(const SplineBasis<3>&, const std::vector<double>&);
 
 }  // namespace sage::solver

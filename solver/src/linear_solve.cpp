@@ -1,6 +1,8 @@
 #include "linear_solve.hpp"
 
+#include "freed_memory.hpp"
 #include "message_text.hpp"
+#include "symmetric_product.hpp"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -12,6 +14,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sage::solver {
 
@@ -52,17 +55,29 @@ struct CgResult {
 /// benchmarks halve theirs within a few hundred iterations.
 constexpr int kStagnationIterations = 2000;
 
+/// When to give conjugate gradients up for a better preconditioner: every
+/// `every` iterations from `first` on, the rate of the last half of the
+/// iterations says how many more it needs (CG's residual falls about
+/// geometrically once past its first fast phase, whose rate is
+/// optimistic); past `budget` in all, it stops.
+struct GiveUpRule {
+  int first = 200;
+  int every = 100;
+  int budget = 4000;
+};
+
 /// Preconditioned conjugate gradients on the system's lower triangle from
-/// `guess` (or 0), for at most `budget` iterations; without a budget, throws
-/// when they do not converge. Throws at once on a breakdown: a residual that
-/// is not finite, a direction of non-positive curvature (the matrix is not
-/// positive definite), a preconditioner that is not, or stagnation.
+/// `guess` (or 0), for at most `budget` iterations, or until `give_up`
+/// says so; without either, throws when they do not converge. Throws at
+/// once on a breakdown: a residual that is not finite, a direction of
+/// non-positive curvature (the matrix is not positive definite), a
+/// preconditioner that is not, or stagnation.
 template <class Preconditioner>
 CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
                              SolveReport& report, const Preconditioner& preconditioner, int budget = 0,
-                             const Eigen::VectorXd* guess = nullptr) {
+                             const Eigen::VectorXd* guess = nullptr, const GiveUpRule* give_up = nullptr) {
   report.cg_tolerance = tolerance;
-  const auto a = system.selfadjointView<Eigen::Lower>();
+  const SymmetricProduct a(system);
   const int limit = budget > 0 ? budget : 10 * static_cast<int>(system.rows()) + 100;
   CgResult result;
   result.x = guess ? *guess : Eigen::VectorXd::Zero(right.size());
@@ -73,7 +88,9 @@ CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Ei
     result.residual = 0.0;
     return result;
   }
-  Eigen::VectorXd r = right - a * result.x;
+  Eigen::VectorXd r(right.size());
+  a.apply(result.x, r);
+  r = right - r;
   Eigen::VectorXd z = preconditioner.solve(r);
   Eigen::VectorXd p = z, q(right.size());
   double rz = r.dot(z), best = r.norm();
@@ -83,9 +100,16 @@ CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Ei
     return std::runtime_error("conjugate gradients broke down at iteration " + std::to_string(iteration) + ": " + what);
   };
   result.residual = best / right_norm;
-  while (result.residual > tolerance && iteration < limit) {
+  std::vector<double> history{result.residual};  // the relative residual per iteration
+  auto hopeless = [&] {
+    if (!give_up || iteration < give_up->first || (iteration - give_up->first) % give_up->every != 0) return false;
+    const int half = iteration / 2;
+    const double rate = std::log(result.residual / history[static_cast<std::size_t>(half)]) / (iteration - half);
+    return !(rate < 0.0) || iteration + std::log(tolerance / result.residual) / rate > give_up->budget;
+  };
+  while (result.residual > tolerance && iteration < limit && !hopeless()) {
     ++iteration;
-    q.noalias() = a * p;
+    a.apply(p, q);
     const double curvature = p.dot(q);
     if (!std::isfinite(curvature) || !std::isfinite(rz)) throw breakdown("a number that is not finite (NaN or inf)");
     if (!(curvature > 0.0))
@@ -97,6 +121,7 @@ CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Ei
     const double norm = r.norm();
     if (!std::isfinite(norm)) throw breakdown("the residual is not finite");
     result.residual = norm / right_norm;
+    if (give_up) history.push_back(result.residual);
     if (norm < 0.5 * best) {
       best = norm;
       best_at = iteration;
@@ -112,7 +137,7 @@ CgResult conjugate_gradients(const Eigen::SparseMatrix<double>& system, const Ei
   }
   report.iterations += iteration;
   result.converged = result.residual <= tolerance;
-  if (!result.converged && budget == 0)
+  if (!result.converged && budget == 0 && !give_up)
     throw std::runtime_error("conjugate gradients did not converge in " + std::to_string(iteration) +
                              " iterations (relative residual " + number_text(result.residual) + ")");
   return result;
@@ -141,56 +166,37 @@ Eigen::VectorXd incomplete_cholesky_cg(const Eigen::SparseMatrix<double>& system
 /// easy systems (degree 2 on round domains: about 100 iterations), but its
 /// iterations grow as 1/h, and domains with features a few cells wide (a
 /// mesh's thin ears) make the WEB system's condition reach 1e8 after
-/// scaling, where Jacobi needs thousands. So Jacobi in legs, while they
-/// promise convergence within the budget; then the fallback, from where
-/// Jacobi left off.
-struct JacobiLegs {
-  int probe = 200;        // the first leg
-  int longest = 1 << 30;  // the longest leg after it
-  int budget = 4000;      // iterations in all
-};
-
+/// scaling, where Jacobi needs thousands. So Jacobi while it promises to
+/// converge within the budget; then the fallback, from where Jacobi left
+/// off.
+///
 /// Without the unknowns' places: incomplete Cholesky after Jacobi's 4,000
 /// iterations (its set-up costs several times a hundred Jacobi iterations).
-constexpr JacobiLegs kBeforeIncompleteCholesky{};
+constexpr GiveUpRule kBeforeIncompleteCholesky{};
 
 /// With them: multilevel Schwarz after the Jacobi iterations its whole
 /// solve costs, which fall with the size as its distinct blocks (near the
 /// boundary) become fewer per unknown: measured 700 at 2e4 unknowns (the
-/// ball, degree 2), 370 at 6e4 (the plate with a hole), 90 at 1e6. Legs of
-/// at most 100 iterations, as the first legs' rates are optimistic.
-JacobiLegs before_schwarz(Eigen::Index unknowns) {
+/// ball, degree 2), 370 at 6e4 (the plate with a hole), 90 at 1e6. Looked
+/// at every 25 iterations from 50 on.
+GiveUpRule before_schwarz(Eigen::Index unknowns) {
   const double worth = 700.0 * std::sqrt(2e4 / std::max(1.0, static_cast<double>(unknowns)));
-  JacobiLegs legs;
-  legs.budget = static_cast<int>(std::clamp(worth, 60.0, 1000.0));
-  legs.probe = std::min(100, legs.budget / 2);
-  legs.longest = legs.probe;
-  return legs;
+  GiveUpRule rule;
+  rule.budget = static_cast<int>(std::clamp(worth, 60.0, 1000.0));
+  rule.first = std::min(50, rule.budget / 2);
+  rule.every = 25;
+  return rule;
 }
 
 template <class Fallback>
 Eigen::VectorXd jacobi_then(const Eigen::SparseMatrix<double>& system, const Eigen::VectorXd& right, double tolerance,
-                            SolveReport& report, const JacobiLegs& legs, Fallback&& fallback) {
+                            SolveReport& report, const GiveUpRule& rule, Fallback&& fallback) {
   report.linear_solver = "conjugate gradients, Jacobi";
-  const Jacobi jacobi(system);
-  // Jacobi in legs: after each, the rate of the last leg says how many
-  // more iterations it needs (CG's residual falls about geometrically
-  // once past its first fast phase).
-  CgResult leg = conjugate_gradients(system, right, tolerance, report, jacobi, legs.probe);
-  int spent = legs.probe, length = legs.probe;
-  double start = 1.0;
-  while (!leg.converged) {
-    const double per_iteration = std::log(leg.residual / start) / length;
-    const double more = per_iteration < 0.0 ? std::log(tolerance / leg.residual) / per_iteration
-                                            : std::numeric_limits<double>::infinity();
-    if (spent + more > legs.budget) break;
-    start = leg.residual;
-    length = std::min(legs.longest, std::max(legs.probe, static_cast<int>(1.2 * more)));
-    leg = conjugate_gradients(system, right, tolerance, report, jacobi, length, &leg.x);
-    spent += length;
-  }
-  if (leg.converged) return leg.x;
-  return fallback("conjugate gradients, Jacobi (" + std::to_string(spent) + " iterations, too slow), then ", leg.x);
+  const CgResult jacobi =
+      conjugate_gradients(system, right, tolerance, report, Jacobi(system), rule.budget, nullptr, &rule);
+  if (jacobi.converged) return jacobi.x;
+  return fallback("conjugate gradients, Jacobi (" + std::to_string(report.iterations) + " iterations, too slow), then ",
+                  jacobi.x);
 }
 
 /// Conjugate gradients with multilevel Schwarz from `guess` (or 0); `before`: what ran first, for the report.
@@ -211,6 +217,7 @@ Eigen::VectorXd solve_symmetric(const Eigen::SparseMatrix<double>& system, const
                                 LinearSolverKind kind, double tolerance, SolveReport& report,
                                 const SplinePlacement* placement) {
   check_system(system, right);
+  release_freed_memory();  // the assembly's temporaries
   if (kind == LinearSolverKind::Schwarz && !placement)
     throw std::invalid_argument("the Schwarz preconditioner needs the unknowns' places on the grid");
   Eigen::VectorXd x;

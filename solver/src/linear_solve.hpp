@@ -1,8 +1,10 @@
 #pragma once
 // The solve of a symmetric positive definite system given by its lower
 // triangle, shared by the solvers: a sparse LDLT, or conjugate gradients
-// with incomplete Cholesky or Jacobi. Automatic means Jacobi in legs,
-// then incomplete Cholesky when Jacobi is too slow (3D systems).
+// (the matrix product on all cores, symmetric_product.hpp) with multilevel
+// Schwarz, incomplete Cholesky or Jacobi. Automatic means Jacobi while its
+// rate promises to converge soon enough, then multilevel Schwarz when the
+// unknowns' places are given (3D), else incomplete Cholesky.
 
 #include "schwarz_preconditioner.hpp"
 

@@ -135,7 +135,10 @@ PoissonSystem poisson_system(const SplineBasis<D>& basis, PoissonAssembly& assem
   const std::size_t relevant = basis.relevant.size();
   PoissonSystem out;
   Eigen::SparseMatrix<double>& system = out.matrix;
-  system = extended_system(basis, assembly.band);  // lower triangle
+  {
+    Eigen::SparseMatrix<double> lower = extended_system(basis, assembly.band);
+    system.swap(lower);  // Eigen 3.4's SparseMatrix has no move assignment: a copy would double it
+  }
   assembly.band = std::vector<double>();
   const Eigen::SparseMatrix<double>& E = basis.extension;
   Eigen::VectorXd& right = out.right;
@@ -165,13 +168,10 @@ PoissonSystem poisson_system(const SplineBasis<D>& basis, PoissonAssembly& assem
   // ones, is still the null space of a pure Neumann problem).
   Eigen::SparseMatrix<double>& second_select = out.second_select;
   if (second) {
-    auto extended = [&](const std::vector<double>& b) {
-      return Eigen::SparseMatrix<double>(E.transpose() * band_matrix(basis, b) * E);
-    };
-    const Eigen::SparseMatrix<double> own = extended(assembly.second_band);
+    const Eigen::SparseMatrix<double> own = extended_product(basis, assembly.second_band);
     second_select = second_function_unknowns(own);
     const Eigen::SparseMatrix<double> select_t = second_select.transpose();
-    const Eigen::SparseMatrix<double> qp = select_t * extended(assembly.coupling_band);
+    const Eigen::SparseMatrix<double> qp = select_t * extended_product(basis, assembly.coupling_band);
     const Eigen::SparseMatrix<double> qq = select_t * own * second_select;
     system = joined_system(system, qp, qq);
     auto rows_of = [&](const std::vector<double>& v) {

@@ -1,5 +1,8 @@
 #include "schwarz_preconditioner.hpp"
 
+#include "freed_memory.hpp"
+#include "threads.hpp"
+
 #include <sage/solver/memory_estimate.hpp>
 
 #include <Eigen/Cholesky>
@@ -11,10 +14,6 @@
 #include <stdexcept>
 #include <unordered_map>
 #include <utility>
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace sage::solver {
 
@@ -38,24 +37,11 @@ constexpr double kSharedBlockPrecision = 0x1p-36;
 /// The share of the available memory the distinct blocks may take at most.
 constexpr double kDistinctBlockMemoryShare = 0.25;
 
+/// Columns of P per piece of the Galerkin product L P.
+constexpr Eigen::Index kGalerkinColumns = 256;
+
 /// Blocks applied together in one matrix product.
 constexpr int kBlocksPerProduct = 64;
-
-int thread_count() {
-#ifdef _OPENMP
-  return omp_get_max_threads();
-#else
-  return 1;
-#endif
-}
-
-int thread_number() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
-}
 
 /// The boxes of grid positions the unknowns' indices span, widened by
 /// `below` cells, times the components: a dense numbering of the keys
@@ -320,11 +306,33 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
   for (std::size_t f = 0; f < blocks.users.size(); ++f)
     for (std::size_t k = 0; k < blocks.users[f].size(); k += kBlocksPerProduct)
       blocks.batches.push_back({static_cast<int>(f), k, std::min(blocks.users[f].size(), k + kBlocksPerProduct)});
-  blocks.factors.resize(representative.size());
+  // Inverses of one block each are packed, the shared ones kept whole.
+  const std::size_t inverses = representative.size();
+  blocks.order.resize(inverses);
+  blocks.factors.resize(inverses);
+  blocks.packed_at.assign(inverses, 0);
+  std::size_t packed = 0;
+  for (std::size_t f = 0; f < inverses; ++f) {
+    const int m = size_of(representative[f]);
+    blocks.order[f] = m;
+    if (blocks.users[f].size() > 1) continue;
+    blocks.packed_at[f] = packed;
+    packed += static_cast<std::size_t>(m) * static_cast<std::size_t>(m + 1) / 2;
+  }
+  blocks.packed.resize(packed);
 #pragma omp parallel for schedule(dynamic, 16)
-  for (std::size_t f = 0; f < representative.size(); ++f) {
+  for (std::size_t f = 0; f < inverses; ++f) {
     const std::size_t b = representative[f];
-    blocks.factors[f] = inverse_factor(dense_block(lower, cells.members.data() + cells.start[b], size_of(b)));
+    Eigen::MatrixXf factor = inverse_factor(dense_block(lower, cells.members.data() + cells.start[b], size_of(b)));
+    if (blocks.users[f].size() > 1) {
+      blocks.factors[f] = std::move(factor);
+      continue;
+    }
+    float* column = blocks.packed.data() + blocks.packed_at[f];
+    for (Eigen::Index j = 0; j < factor.cols(); ++j) {
+      std::copy(factor.col(j).data() + j, factor.col(j).data() + factor.rows(), column);
+      column += factor.rows() - j;
+    }
   }
   for (int u = 0; u < static_cast<int>(placement.component.size()); ++u)
     if (placement.component[u] < 0) blocks.lone.push_back(u);
@@ -334,6 +342,24 @@ SchwarzPreconditioner::Blocks cell_blocks(const Eigen::SparseMatrix<double>& low
     blocks.lone_inverse[static_cast<Eigen::Index>(k)] = diagonal > 0.0 ? 1.0 / diagonal : 0.0;
   }
   return blocks;
+}
+
+/// x = G^T G x for a lower triangular G packed column by column; `work`: m floats.
+void apply_packed_inverse(const float* g, Eigen::Index m, float* x, float* work) {
+  using Column = Eigen::Map<const Eigen::VectorXf>;
+  using Segment = Eigen::Map<Eigen::VectorXf>;
+  Segment y(work, m);
+  y.setZero();
+  const float* column = g;
+  for (Eigen::Index j = 0; j < m; ++j) {  // y = G x
+    Segment(work + j, m - j) += x[j] * Column(column, m - j);
+    column += m - j;
+  }
+  column = g;
+  for (Eigen::Index j = 0; j < m; ++j) {  // x = G^T y
+    x[j] = Column(column, m - j).dot(Column(work + j, m - j));
+    column += m - j;
+  }
 }
 
 /// result += S r = W sum over blocks of R_b^T A_b^-1 R_b W r, W the
@@ -359,16 +385,20 @@ void add_blocks(const SchwarzPreconditioner::Blocks& blocks, const Eigen::Vector
 #pragma omp for schedule(static)
     for (std::size_t w = 0; w < items.size(); ++w) {
       const SchwarzPreconditioner::Blocks::Batch& item = items[w];
-      const Eigen::MatrixXf& factor = blocks.factors[static_cast<std::size_t>(item.inverse)];
-      const std::vector<int>& users = blocks.users[static_cast<std::size_t>(item.inverse)];
-      const auto m = factor.rows();
+      const auto f = static_cast<std::size_t>(item.inverse);
+      const Eigen::MatrixXf& factor = blocks.factors[f];
+      const std::vector<int>& users = blocks.users[f];
+      const Eigen::Index m = blocks.order[f];
       const auto k = static_cast<Eigen::Index>(item.last - item.first);
       gathered.resize(m, k);
       for (Eigen::Index c = 0; c < k; ++c) {
         const int* members = blocks.members.data() + blocks.start[static_cast<std::size_t>(users[item.first + c])];
         for (Eigen::Index i = 0; i < m; ++i) gathered(i, c) = static_cast<float>(r[members[i]]);
       }
-      if (k == 1) {  // a distinct block: matrix-vector products, without the packing of matrix products
+      if (factor.size() == 0) {
+        vector.resize(m);
+        apply_packed_inverse(blocks.packed.data() + blocks.packed_at[f], m, gathered.data(), vector.data());
+      } else if (k == 1) {  // a shared inverse's last user alone: matrix-vector products
         vector.noalias() = factor.triangularView<Eigen::Lower>() * gathered.col(0);
         gathered.col(0).noalias() = factor.transpose().triangularView<Eigen::Upper>() * vector;
       } else {
@@ -464,63 +494,123 @@ Eigen::SparseMatrix<double> coarse_prolongation(const SplinePlacement& fine, Spl
   return p;
 }
 
-/// The lower triangle of P^T A P, A given by its lower triangle L (the
-/// diagonal D included): with S = P^T L P, P^T A P = S + S^T - P^T D P,
-/// so the whole A is never formed (it would double the system's memory)
-/// and the fine product L P has half the work of A P. The columns of P in
-/// one slice per thread.
-Eigen::SparseMatrix<double> galerkin_product(const Eigen::SparseMatrix<double>& lower,
-                                             const Eigen::SparseMatrix<double>& p) {
-  const Eigen::SparseMatrix<double> p_transposed = p.transpose();
-  const int slices = thread_count();
-  std::vector<Eigen::SparseMatrix<double>> parts(static_cast<std::size_t>(slices));
-#pragma omp parallel for schedule(static, 1)
-  for (int slice = 0; slice < slices; ++slice) {
-    const Eigen::Index first = p.cols() * slice / slices, last = p.cols() * (slice + 1) / slices;
-    const Eigen::SparseMatrix<double> lp = lower * p.middleCols(first, last - first);
-    parts[static_cast<std::size_t>(slice)] = p_transposed * lp;
-  }
-  Eigen::SparseMatrix<double> s(p.cols(), p.cols());
-  {
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int slice = 0; slice < slices; ++slice) {
-      const Eigen::SparseMatrix<double>& part = parts[static_cast<std::size_t>(slice)];
-      const Eigen::Index first = p.cols() * slice / slices;
-      for (Eigen::Index c = 0; c < part.outerSize(); ++c)
-        for (Eigen::SparseMatrix<double>::InnerIterator e(part, c); e; ++e)
-          entries.emplace_back(e.row(), first + c, e.value());
+/// The lower triangle of S + S^T - P^T D P, S given by its columns, in
+/// order, in `parts` (released as they are read). S(r, a) goes to column
+/// min(r, a): each column gets two sorted runs (its own rows r >= a, then
+/// the rows a > r of the later columns), merged with their sums. P^T D P
+/// has no entry outside S's pattern (D is L's diagonal).
+Eigen::SparseMatrix<double> symmetric_part(std::vector<Eigen::SparseMatrix<double>>& parts, Eigen::Index n,
+                                           const Eigen::SparseMatrix<double>& p, const Eigen::VectorXd& diagonal) {
+  auto for_each_entry = [&](auto&& visit, bool release) {
+    Eigen::Index a = 0;
+    for (auto& part : parts) {
+      for (Eigen::Index c = 0; c < part.outerSize(); ++c, ++a)
+        for (Eigen::SparseMatrix<double>::InnerIterator e(part, c); e; ++e) visit(e.row(), a, e.value());
+      if (release) Eigen::SparseMatrix<double>().swap(part);
     }
-    s.setFromTriplets(entries.begin(), entries.end());
+  };
+  std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1, 0);
+  for_each_entry([&](Eigen::Index r, Eigen::Index a, double) { ++start[static_cast<std::size_t>(std::min(r, a)) + 1]; },
+                 false);
+  std::vector<std::size_t> mid(static_cast<std::size_t>(n));  // where each column's second run begins
+  for (Eigen::Index a = 0; a < n; ++a) start[a + 1] += start[a];
+  std::vector<int> rows(start.back());
+  std::vector<double> values(start.back());
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for_each_entry(
+      [&](Eigen::Index r, Eigen::Index a, double v) {
+        const auto column = static_cast<std::size_t>(std::min(r, a));
+        if (r >= a) mid[column] = fill[column] + 1;
+        rows[fill[column]] = static_cast<int>(std::max(r, a));
+        values[fill[column]++] = r == a ? 2.0 * v : v;
+      },
+      true);
+  Eigen::SparseMatrix<double> result(n, n);
+  std::vector<std::pair<int, double>> merged;
+  std::size_t kept = 0;
+  for (Eigen::Index a = 0; a < n; ++a) {
+    const std::size_t first = start[a], second = std::max(first, mid[a]), last = start[a + 1];
+    merged.clear();
+    for (std::size_t i = first, j = second; i < second || j < last;) {
+      const bool from_first = j == last || (i < second && rows[i] <= rows[j]);
+      const std::size_t k = from_first ? i++ : j++;
+      if (!merged.empty() && merged.back().first == rows[k])
+        merged.back().second += values[k];
+      else
+        merged.emplace_back(rows[k], values[k]);
+    }
+    start[a] = kept;
+    for (const auto& [row, value] : merged) {
+      rows[kept] = row;
+      values[kept++] = value;
+    }
   }
-  const Eigen::SparseMatrix<double> pdp = p_transposed * lower.diagonal().asDiagonal() * p;
-  const Eigen::SparseMatrix<double> s_transposed = s.transpose();
-  Eigen::SparseMatrix<double> whole = s + s_transposed - pdp;
-  return whole.triangularView<Eigen::Lower>();
+  start[n] = kept;
+  // Minus P^T D P: for each fine unknown u, its coarse pairs (r >= a).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> p_rows = p;
+  for (Eigen::Index u = 0; u < p_rows.rows(); ++u)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator ea(p_rows, u); ea; ++ea)
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator er(p_rows, u); er; ++er) {
+        if (er.col() < ea.col()) continue;
+        const auto column = static_cast<std::size_t>(ea.col());
+        const auto begin = rows.begin() + static_cast<std::ptrdiff_t>(start[column]);
+        const auto end = rows.begin() + static_cast<std::ptrdiff_t>(start[column + 1]);
+        const auto at = std::lower_bound(begin, end, static_cast<int>(er.col()));
+        if (at != end && *at == er.col())
+          values[static_cast<std::size_t>(at - rows.begin())] -= er.value() * diagonal[u] * ea.value();
+      }
+  result.resizeNonZeros(static_cast<Eigen::Index>(kept));
+  std::copy(rows.begin(), rows.begin() + static_cast<std::ptrdiff_t>(kept), result.innerIndexPtr());
+  std::copy(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(kept), result.valuePtr());
+  for (Eigen::Index a = 0; a <= n; ++a) result.outerIndexPtr()[a] = static_cast<int>(start[a]);
+  return result;
 }
 
 }  // namespace
+
+/// The lower triangle of P^T A P, A given by its lower triangle L (the
+/// diagonal D included): with S = P^T L P, P^T A P = S + S^T - P^T D P,
+/// so the whole A is never formed (it would double the system's memory)
+/// and the fine product L P has half the work of A P. L P is formed
+/// kGalerkinColumns columns of P at a time: whole, it would hold several
+/// times the coarse matrix's entries.
+Eigen::SparseMatrix<double> galerkin_lower(const Eigen::SparseMatrix<double>& lower,
+                                           const Eigen::SparseMatrix<double>& p) {
+  const Eigen::SparseMatrix<double> p_transposed = p.transpose();
+  const Eigen::Index coarse = p.cols(), chunks = (coarse + kGalerkinColumns - 1) / kGalerkinColumns;
+  std::vector<Eigen::SparseMatrix<double>> parts(static_cast<std::size_t>(chunks));
+#pragma omp parallel for schedule(dynamic, 1)
+  for (Eigen::Index k = 0; k < chunks; ++k) {
+    const Eigen::Index first = k * kGalerkinColumns, count = std::min(kGalerkinColumns, coarse - first);
+    const Eigen::SparseMatrix<double> lp = lower * p.middleCols(first, count);
+    parts[static_cast<std::size_t>(k)] = p_transposed * lp;
+  }
+  return symmetric_part(parts, coarse, p, lower.diagonal());
+}
 
 SchwarzPreconditioner::SchwarzPreconditioner(const Eigen::SparseMatrix<double>& lower,
                                              const SplinePlacement& placement) {
   if (placement.index.size() != static_cast<std::size_t>(lower.rows()) ||
       placement.component.size() != placement.index.size())
     throw std::invalid_argument("SchwarzPreconditioner: the placement does not match the matrix");
-  // The level's matrix: the system itself (not copied), then the coarse ones.
+  // The coarse spaces and their Galerkin matrices first, the blocks after:
+  // the products' temporaries never meet the blocks. (A vector of levels
+  // reserved once: Eigen 3.4's SparseMatrix has no move constructor, and a
+  // reallocation would copy every level.)
+  std::vector<SplinePlacement> placements{placement};
+  std::vector<Eigen::SparseMatrix<double>> prolongations, coarse_matrices;
+  prolongations.reserve(kMostLevels);
+  coarse_matrices.reserve(kMostLevels);
   const Eigen::SparseMatrix<double>* matrix = &lower;
-  Eigen::SparseMatrix<double> coarse_matrix;
-  SplinePlacement here = placement;
-  while (matrix->rows() > kCoarsestUnknowns && static_cast<int>(levels_.size()) < kMostLevels) {
+  while (matrix->rows() > kCoarsestUnknowns && static_cast<int>(prolongations.size()) < kMostLevels) {
     SplinePlacement coarse;
-    Eigen::SparseMatrix<double> p = coarse_prolongation(here, coarse);
+    Eigen::SparseMatrix<double> p = coarse_prolongation(placements.back(), coarse);
     if (p.cols() == 0 || static_cast<double>(p.cols()) > kLeastCoarsening * static_cast<double>(matrix->rows())) break;
-    Level level;
-    level.blocks = cell_blocks(*matrix, here);
-    Eigen::SparseMatrix<double> next = galerkin_product(*matrix, p);
-    coarse_matrix = std::move(next);
-    matrix = &coarse_matrix;
-    level.prolongation = std::move(p);
-    levels_.push_back(std::move(level));
-    here = std::move(coarse);
+    Eigen::SparseMatrix<double> next = galerkin_lower(*matrix, p);
+    coarse_matrices.emplace_back().swap(next);
+    matrix = &coarse_matrices.back();
+    prolongations.push_back(std::move(p));
+    placements.push_back(std::move(coarse));
   }
   coarsest_size_ = matrix->rows();
   coarsest_.compute(*matrix);
@@ -533,6 +623,15 @@ SchwarzPreconditioner::SchwarzPreconditioner(const Eigen::SparseMatrix<double>& 
     coarsest_.compute(*matrix + shift * identity);
     if (coarsest_.info() != Eigen::Success)
       throw std::runtime_error("the multilevel Schwarz preconditioner's coarsest level is not positive definite");
+  }
+  // Each level's blocks, the coarse ones first: a coarse matrix is
+  // released once its blocks are built, before the largest level's.
+  release_freed_memory();  // the Galerkin products' pieces
+  levels_.resize(prolongations.size());
+  for (std::size_t l = levels_.size(); l-- > 0;) {
+    levels_[l].blocks = cell_blocks(l == 0 ? lower : coarse_matrices[l - 1], placements[l]);
+    if (l > 0) Eigen::SparseMatrix<double>().swap(coarse_matrices[l - 1]);
+    levels_[l].prolongation.swap(prolongations[l]);
   }
 }
 
@@ -563,6 +662,7 @@ std::size_t SchwarzPreconditioner::bytes() const {
     const Blocks& b = level.blocks;
     total += b.members.size() * sizeof(int) + b.start.size() * sizeof(std::size_t);
     for (const Eigen::MatrixXf& inverse : b.factors) total += static_cast<std::size_t>(inverse.size()) * sizeof(float);
+    total += b.packed.size() * sizeof(float);
     total += static_cast<std::size_t>(level.prolongation.nonZeros()) * (sizeof(double) + sizeof(int));
   }
   return total +

@@ -15,14 +15,17 @@
 // constant coefficients) share one inverse, applied to 64 blocks at a time
 // as one matrix product, and of those only the blocks on cells with even
 // coordinates are kept: blocks two cells apart still overlap, at an eighth
-// of the cost. Every distinct block (near the boundary) is kept, unless
-// they would fill a quarter of the memory available.
+// of the cost. Every distinct block (near the boundary) is kept, its G
+// packed (the lower triangle only), unless they would fill a quarter of
+// the memory available.
 //
 // The next level comes from the B-splines' two-scale relation: a B-spline
 // of width 2h is a sum of n + 2 B-splines of width h per axis, with
 // weights binom(n + 1, l) / 2^n. Its prolongation P keeps the fine
 // unknowns only (the WEB extension carries the rest), the coarse matrix is
-// P^T A P (as S + S^T - P^T D P, S = P^T L P for the lower triangle L),
+// P^T A P (as S + S^T - P^T D P, S = P^T L P for the lower triangle L,
+// built a few hundred columns of P at a time; all coarse matrices before
+// any block, so that their temporaries never meet the blocks),
 // and coarse B-splines left with under a tenth of themselves in
 // the fine unknowns are dropped (they would make P^T A P nearly singular).
 // The coarsest level, at most 2,000 unknowns, is solved by sparse Cholesky.
@@ -76,9 +79,16 @@ class SchwarzPreconditioner {
   struct Blocks {
     std::vector<std::size_t> start;  // block b's unknowns: members[start[b] .. start[b + 1])
     std::vector<int> members;
-    std::vector<Eigen::MatrixXf> factors;  // of the distinct blocks' inverses: A_b^-1 = G^T G, G = L^-1
-    std::vector<std::vector<int>> users;   // per inverse: its blocks
-    Eigen::VectorXd share;                 // per unknown: 1 / sqrt(the blocks it lies in), or 0
+    /// Per inverse A_b^-1 = G^T G (G = L^-1, lower triangular): its order,
+    /// and G as a matrix when several blocks share it (applied as matrix
+    /// products), else packed (its lower triangle column by column, at
+    /// packed_at[f] in packed: half the bytes).
+    std::vector<int> order;
+    std::vector<Eigen::MatrixXf> factors;
+    std::vector<std::size_t> packed_at;
+    std::vector<float> packed;
+    std::vector<std::vector<int>> users;  // per inverse: its blocks
+    Eigen::VectorXd share;                // per unknown: 1 / sqrt(the blocks it lies in), or 0
     /// The application's work, built once: up to kBlocksPerProduct users of one inverse each.
     struct Batch {
       int inverse;
@@ -100,5 +110,10 @@ class SchwarzPreconditioner {
 
   Eigen::VectorXd apply(std::size_t level, const Eigen::VectorXd& r) const;
 };
+
+/// The lower triangle of P^T A P for A given by its lower triangle: the
+/// coarse levels' matrices (exposed for the tests).
+Eigen::SparseMatrix<double> galerkin_lower(const Eigen::SparseMatrix<double>& lower,
+                                           const Eigen::SparseMatrix<double>& p);
 
 }  // namespace sage::solver

@@ -640,8 +640,7 @@ TEST(CliSolve, ThreeDimensionalAutoSolverMovesOnToMultilevelSchwarz) {
       run("solve " + problem + " -o " + scratch("ball_stiff.vtu").string() + common + " --nitsche-penalty 1e6");
   ASSERT_EQ(stiff.exit_code, 0) << stiff.output;
   EXPECT_NE(stiff.output.find("Nitsche penalty 1e+06 / h"), std::string::npos) << stiff.output;
-  EXPECT_NE(stiff.output.find("Jacobi (100 iterations, too slow), then multilevel Schwarz"), std::string::npos)
-      << stiff.output;
+  EXPECT_NE(stiff.output.find("iterations, too slow), then multilevel Schwarz"), std::string::npos) << stiff.output;
   EXPECT_LT(printed_l2(stiff), 1e-5) << stiff.output;
   const Result stiff_jacobi = run("solve " + problem + " -o " + scratch("ball_stiff_jacobi.vtu").string() + common +
                                   " --nitsche-penalty 1e6 --solver jacobi");

@@ -1,5 +1,6 @@
 // extended_system(): E^T A E from the band of A must be the lower triangle
-// of the dense product, for both bases, in 2D and 3D.
+// of the dense product, for both bases, in 2D and 3D; extended_product()
+// the whole product of a band that is not symmetric.
 #include <sage/solver/extended_system.hpp>
 #include <sage/solver/local_splines.hpp>
 
@@ -13,7 +14,7 @@ namespace sage::solver {
 namespace {
 
 template <int D>
-void expect_product_of_band(int degree, BasisKind kind) {
+void expect_product_of_band(int degree, BasisKind kind, bool symmetric = true) {
   std::array<double, D> lo{}, hi{};
   lo.fill(-1.0);
   hi.fill(1.0);
@@ -41,7 +42,10 @@ void expect_product_of_band(int degree, BasisKind kind) {
     const auto cell = grid.cell_index(c);
     Eigen::MatrixXd K(local, local);
     for (int j = 0; j < local; ++j)
-      for (int l = 0; l <= j; ++l) K(j, l) = K(l, j) = uniform(random);
+      for (int l = 0; l <= j; ++l) {
+        K(j, l) = K(l, j) = uniform(random);
+        if (!symmetric) K(l, j) = uniform(random);
+      }
     for (int j = 0; j < local; ++j)
       for (int l = 0; l < local; ++l) {
         const auto sj = LocalSplines<D>::global_index(cell, degree, j),
@@ -56,6 +60,11 @@ void expect_product_of_band(int degree, BasisKind kind) {
   }
   const Eigen::MatrixXd E = Eigen::MatrixXd(basis.extension);
   const Eigen::MatrixXd expected = E.transpose() * A * E;
+  if (!symmetric) {
+    const Eigen::SparseMatrix<double> product = extended_product(basis, band);
+    EXPECT_LT((Eigen::MatrixXd(product) - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+    return;
+  }
   const Eigen::SparseMatrix<double> system = extended_system(basis, band);
   ASSERT_EQ(system.rows(), expected.rows());
   ASSERT_EQ(system.cols(), expected.cols());
@@ -74,6 +83,13 @@ TEST(ExtendedSystem, BandProductEqualsTheDenseProduct) {
   expect_product_of_band<2>(2, BasisKind::Web);
   expect_product_of_band<2>(3, BasisKind::Weighted);
   expect_product_of_band<3>(2, BasisKind::Web);
+}
+
+// extended_product(): the whole E^T A E of a band that is not symmetric
+// (elasticity's couplings of two components).
+TEST(ExtendedSystem, ProductOfAnUnsymmetricBand) {
+  expect_product_of_band<2>(2, BasisKind::Web, false);
+  expect_product_of_band<3>(3, BasisKind::Web, false);
 }
 
 }  // namespace

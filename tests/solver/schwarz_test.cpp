@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 namespace sage::solver {
@@ -111,6 +112,101 @@ TEST(Schwarz, ThinTiltedWallsWithSliversAndCorners) {
     const auto direct = solve_poisson<3>(problem, options);
     EXPECT_LT(coefficient_difference(schwarz.spline_coefficients, direct.spline_coefficients), 1e-6)
         << cells << " cells";
+  }
+}
+
+/// A B-spline-like system on a box of s^3 unknowns of degree 2: the
+/// Kronecker sum K x M x M + M x K x M + M x M x K of banded SPD matrices
+/// (couplings up to two places apart, as degree-2 B-splines have), with
+/// the diagonal raised at random in one corner, so that the cell blocks
+/// there differ (packed inverses) while the others repeat (shared ones).
+struct BoxSystem {
+  Eigen::SparseMatrix<double> lower;
+  SplinePlacement placement;
+};
+
+BoxSystem box_system(int s) {
+  const double mass[3] = {1.0, 0.25, 0.05}, stiffness[3] = {2.0, -0.9, -0.05};
+  auto at = [&](const double* band, int i, int j) { return std::abs(i - j) <= 2 ? band[std::abs(i - j)] : 0.0; };
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> raise(0.0, 1.0);
+  BoxSystem box;
+  box.placement.dimension = 3;
+  box.placement.degree = 2;
+  std::vector<Eigen::Triplet<double>> entries;
+  auto number = [s](int x, int y, int z) { return x + s * (y + s * z); };
+  for (int z = 0; z < s; ++z)
+    for (int y = 0; y < s; ++y)
+      for (int x = 0; x < s; ++x) {
+        box.placement.index.push_back({x, y, z});
+        box.placement.component.push_back(0);
+        for (int c = -2; c <= 2; ++c)
+          for (int b = -2; b <= 2; ++b)
+            for (int a = -2; a <= 2; ++a) {
+              const int X = x + a, Y = y + b, Z = z + c;
+              if (X < 0 || Y < 0 || Z < 0 || X >= s || Y >= s || Z >= s || number(X, Y, Z) < number(x, y, z)) continue;
+              double v = at(stiffness, x, X) * at(mass, y, Y) * at(mass, z, Z) +
+                         at(mass, x, X) * at(stiffness, y, Y) * at(mass, z, Z) +
+                         at(mass, x, X) * at(mass, y, Y) * at(stiffness, z, Z);
+              if (a == 0 && b == 0 && c == 0 && x < s / 3 && y < s / 3 && z < s / 3) v *= 1.0 + raise(random);
+              if (v != 0.0) entries.emplace_back(number(X, Y, Z), number(x, y, z), v);
+            }
+      }
+  box.lower.resize(s * s * s, s * s * s);
+  box.lower.setFromTriplets(entries.begin(), entries.end());
+  return box;
+}
+
+// M^-1 = sum over levels of P (W sum_b R_b^T G_b^T G_b R_b W) P^T is
+// symmetric positive definite whether a block's factor is shared (applied
+// as matrix products) or packed (distinct blocks): equal both ways round
+// to single precision, and CG with it converges fast.
+TEST(Schwarz, PreconditionerIsSymmetricPositiveDefinite) {
+  const BoxSystem box = box_system(24);
+  const SchwarzPreconditioner schwarz(box.lower, box.placement);
+  EXPECT_GE(schwarz.levels(), 2u) << schwarz.description();
+  const Eigen::Index n = box.lower.rows();
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd a = Eigen::VectorXd::Random(n), b = Eigen::VectorXd::Random(n);
+    const Eigen::VectorXd ma = schwarz.solve(a), mb = schwarz.solve(b);
+    EXPECT_LT(std::abs(b.dot(ma) - a.dot(mb)), 1e-5 * ma.norm() * b.norm()) << "trial " << trial;
+    EXPECT_GT(a.dot(ma), 0.0);
+  }
+  SolveReport report;
+  SplinePlacement placement = box.placement;
+  const Eigen::VectorXd right = Eigen::VectorXd::Random(n);
+  const Eigen::VectorXd x = solve_symmetric(box.lower, right, LinearSolverKind::Schwarz, 1e-10, report, &placement);
+  EXPECT_LT((box.lower.selfadjointView<Eigen::Lower>() * x - right).norm(), 1e-9 * right.norm());
+  EXPECT_LT(report.iterations, 40) << report.linear_solver;
+}
+
+// The coarse matrices: P^T A P from A's lower triangle, pieces of P's
+// columns at a time, equals the dense product's lower triangle, with a P
+// of more columns than one piece and rows of P that are empty.
+TEST(Schwarz, GalerkinProductEqualsTheDenseOne) {
+  const BoxSystem box = box_system(9);
+  const Eigen::Index n = box.lower.rows(), coarse = 300;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> weight(0.1, 1.0);
+  std::uniform_int_distribution<int> column(0, static_cast<int>(coarse) - 1);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (Eigen::Index u = 0; u < n; ++u)
+    if (u % 7 != 3)
+      for (int k = 0; k < 4; ++k) entries.emplace_back(u, column(random), weight(random));
+  Eigen::SparseMatrix<double> p(n, coarse);
+  p.setFromTriplets(entries.begin(), entries.end());
+  const Eigen::MatrixXd lower = Eigen::MatrixXd(box.lower);
+  const Eigen::MatrixXd a = lower + lower.transpose() - Eigen::MatrixXd(lower.diagonal().asDiagonal());
+  const Eigen::MatrixXd dense_p = Eigen::MatrixXd(p);
+  const Eigen::MatrixXd expected = (dense_p.transpose() * a * dense_p).triangularView<Eigen::Lower>();
+  const Eigen::SparseMatrix<double> product = galerkin_lower(box.lower, p);
+  EXPECT_LT((Eigen::MatrixXd(product) - expected).cwiseAbs().maxCoeff(), 1e-12 * expected.cwiseAbs().maxCoeff());
+  for (Eigen::Index c = 0; c < product.outerSize(); ++c) {  // lower triangle, rows increasing
+    Eigen::Index previous = c - 1;
+    for (Eigen::SparseMatrix<double>::InnerIterator e(product, c); e; ++e) {
+      EXPECT_GT(e.row(), previous);
+      previous = e.row();
+    }
   }
 }
 

@@ -27,9 +27,10 @@ namespace sage::solver {
 template <int D>
 Eigen::SparseMatrix<double> extended_system(const SplineBasis<D>& basis, const std::vector<double>& band);
 
-/// A itself, relevant x relevant, from a band of the same layout that need
-/// not be symmetric (the Robin structure's coupling of its two functions).
+/// The whole E^T A E for a band of A that need not be symmetric (a
+/// coupling of two displacement components, the Robin structure's
+/// coupling of its two functions), computed as extended_system is.
 template <int D>
-Eigen::SparseMatrix<double> band_matrix(const SplineBasis<D>& basis, const std::vector<double>& band);
+Eigen::SparseMatrix<double> extended_product(const SplineBasis<D>& basis, const std::vector<double>& band);
 
 }  // namespace sage::solver
