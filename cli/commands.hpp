@@ -18,5 +18,6 @@ int run_info(const std::vector<std::string>& args);
 int run_render(const std::vector<std::string>& args);
 int run_demo(const std::vector<std::string>& args);
 int run_solve(const std::vector<std::string>& args);
+int run_sample(const std::vector<std::string>& args);
 
 }  // namespace sage::cli

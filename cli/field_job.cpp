@@ -116,14 +116,16 @@ void add_source_options(boost::program_options::options_description& description
 
 bool parse_model_command(const std::vector<std::string>& args,
                          const boost::program_options::options_description& options, std::string& model_path,
-                         boost::program_options::variables_map& vm) {
+                         boost::program_options::variables_map& vm, std::string* points_path) {
   namespace po = boost::program_options;
   po::options_description hidden;
   hidden.add_options()("model", po::value(&model_path)->required());
+  if (points_path) hidden.add_options()("points", po::value(points_path)->required());
   po::options_description all;
   all.add(options).add(hidden);
   po::positional_options_description positional;
   positional.add("model", 1);
+  if (points_path) positional.add("points", 1);
   po::store(po::command_line_parser(args).options(all).positional(positional).run(), vm);
   if (vm.count("help")) {
     std::cout << options << "\n";

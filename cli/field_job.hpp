@@ -58,11 +58,12 @@ struct SourceOptionText {
 };
 void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
                         SourceOptionText& text);
-/// Parses a command line of the form MODEL [options]: stores the model
-/// path, prints `options` and returns false for --help, else notifies.
+/// Parses a command line of the form MODEL [options] (with `points_path`:
+/// MODEL POINTS [options]): stores the paths, prints `options` and returns
+/// false for --help, else notifies.
 bool parse_model_command(const std::vector<std::string>& args,
                          const boost::program_options::options_description& options, std::string& model_path,
-                         boost::program_options::variables_map& vm);
+                         boost::program_options::variables_map& vm, std::string* points_path = nullptr);
 
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
                            const SourceOptionText& text);

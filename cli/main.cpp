@@ -1,6 +1,7 @@
 // sage: meshfree engineering analysis with R-functions.
 //
 //   sage field MODEL -o OUT.vtu   sample a model's field on a grid
+//   sage sample MODEL POINTS -o OUT.csv  the field at listed points
 //   sage info MODEL               summarize a model
 //   sage render MODEL -o OUT.png  picture of a model
 //   sage demo [-o DIR]            write fields of the bundled models
@@ -32,6 +33,8 @@ const char* kUsage =
     "\n"
     "Commands:\n"
     "  field MODEL -o OUT.vtu   sample a model's field and derivatives on a grid\n"
+    "  sample MODEL POINTS -o OUT.csv\n"
+    "                           the field and derivatives at points (CSV, GIS layers)\n"
     "  info MODEL               summarize a model\n"
     "  render MODEL -o OUT.png  picture of a model (3D: ray cast, 2D: colour map)\n"
     "  demo [-o DIR]            write the bundled examples' fields and solutions\n"
@@ -43,6 +46,7 @@ const char* kUsage =
 
 int dispatch(const std::string& command, const std::vector<std::string>& rest) {
   if (command == "field") return sage::cli::run_field(rest);
+  if (command == "sample") return sage::cli::run_sample(rest);
   if (command == "info") return sage::cli::run_info(rest);
   if (command == "render") return sage::cli::run_render(rest);
   if (command == "demo") return sage::cli::run_demo(rest);

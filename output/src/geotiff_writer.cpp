@@ -2,6 +2,7 @@
 #include <sage/output/output_file.hpp>
 #include <sage/output/vtk_writer.hpp>
 
+#include "gdal_support.hpp"
 #include "provenance.hpp"
 
 #include <cpl_error.h>
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <mutex>
 
 namespace sage::output {
 
@@ -36,12 +36,6 @@ std::vector<Band> bands_of(const FieldSamples& s) {
       bands.push_back(
           {"d" + std::to_string(d.order) + "_omega_" + d.components[c], d.values.data() + c, d.components.size()});
   return bands;
-}
-
-/// GDAL's last error, for our messages (its handler is quiet meanwhile).
-std::string gdal_message() {
-  const char* m = CPLGetLastErrorMsg();
-  return m && *m ? m : "no details from GDAL";
 }
 
 GDALDriver* driver(const char* name, const std::string& path) {
@@ -137,8 +131,7 @@ std::string crs_name(const std::string& wkt) {
 
 void write_geotiff(const std::string& path, const FieldSamples& samples, const GeoTiffOptions& options) {
   if (samples.grid.dimension != 2) throw OutputError(path + ": a GeoTIFF holds 2D fields only (use .vti for 3D)");
-  static std::once_flag registered;
-  std::call_once(registered, [] { GDALAllRegister(); });
+  register_gdal();
   const CPLErrorHandlerPusher quiet(CPLQuietErrorHandler);
   CPLErrorReset();
   if (!options.warp_to_wkt.empty() && options.crs_wkt.empty())

@@ -14,6 +14,7 @@
 #include <sage/tape/tape.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -60,5 +61,12 @@ constexpr double kDefaultFarFieldTolerance = 1e-10;
 /// with a positive tolerance (pruned_grid.hpp).
 FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const Progress& progress = {},
                           const Approximation* approximation = nullptr);
+
+/// The same arrays at a list of points (the tape's dimension of
+/// coordinates each, the rest ignored), in their order, evaluated exactly
+/// (no far-field patches: the points may be anywhere, few or many), on
+/// all cores: the numbers sample_field gives at a grid point that is one
+/// of them, bit for bit. `grid` is left empty.
+FieldSamples sample_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order);
 
 }  // namespace sage
