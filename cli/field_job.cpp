@@ -23,28 +23,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Points `spacing` apart along each axis from grid.lo on, up to the first
-/// at or past grid.hi, which moves there: the spacing is then exact.
-void space_points(Grid& grid, double spacing) {
-  std::ostringstream given;
-  given << "--resolution " << spacing;
-  if (!(spacing > 0) || !std::isfinite(spacing))
-    throw UsageError{given.str() + ": must be a positive distance between grid points (the model's units)"};
-  double total = 1;
-  for (int a = 0; a < grid.dimension; ++a) {
-    // A hair under the quotient: bounds a whole number of steps apart get
-    // no extra point from rounding.
-    const double steps = std::ceil((grid.hi[a] - grid.lo[a]) / spacing * (1 - 1e-12));
-    if (!(steps < 100000)) throw UsageError{given.str() + ": over 100000 points along an axis; give a larger one"};
-    grid.points[a] = std::max(2, static_cast<int>(steps) + 1);
-    grid.hi[a] = grid.lo[a] + (grid.points[a] - 1) * spacing;
-    total *= grid.points[a];
-  }
-  if (total > kMaxGridPoints)
-    throw UsageError{given.str() + ": " + std::to_string(static_cast<long long>(total)) +
-                     " points is more than the limit of " + std::to_string(kMaxGridPoints)};
-}
-
 /// What a GeoTIFF holds, in words, for the summary.
 std::string describe_geotiff(const FieldSamples& samples, const geometry::Model& model,
                              const output::GeoTiffOptions& options) {
@@ -163,7 +141,13 @@ Grid grid_for(const geometry::Model& model, const std::optional<std::string>& re
     throw UsageError{e.what()};
   }
   if (model.dimension == 2) grid.lo[2] = grid.hi[2] = 0.0;
-  if (spacing) space_points(grid, *spacing);
+  if (spacing) {
+    try {
+      grid.space_points(*spacing);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError{std::string("--resolution ") + e.what()};
+    }
+  }
   return grid;
 }
 

@@ -15,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev           # bench/
   clang-format               # format check in CI
+  python3-dev pybind11-dev python3-numpy  # the Python module (python/)
   "$@"
 )
 

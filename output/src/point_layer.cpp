@@ -21,7 +21,7 @@ struct Format {
   const char* extension;
   const char* driver;
 };
-constexpr Format kFormats[] = {{".csv", "CSV"},   {".geojson", "GeoJSON"},       {".json", "GeoJSON"},
+constexpr Format kFormats[] = {{".csv", "CSV"},   {".geojson", "GeoJSON"},    {".json", "GeoJSON"},
                                {".gpkg", "GPKG"}, {".shp", "ESRI Shapefile"}, {".fgb", "FlatGeobuf"}};
 
 std::string lower(std::string text) {

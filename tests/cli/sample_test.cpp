@@ -112,8 +112,8 @@ TEST(CliSample, LongitudeLatitudePointsLandOnThePolygonsPlane) {
   EXPECT_LT(std::abs(number(features[1], "omega")), 1e-6) << "a vertex of the island (metres)";
   EXPECT_GT(number(features[2], "omega"), 1.0);
   EXPECT_LT(number(features[3], "omega"), -1.0);
-  EXPECT_NEAR(number(features[2], "grad_norm"), std::hypot(number(features[2], "grad_x"), number(features[2], "grad_y")),
-              1e-12);
+  EXPECT_NEAR(number(features[2], "grad_norm"),
+              std::hypot(number(features[2], "grad_x"), number(features[2], "grad_y")), 1e-12);
 
   // The same places as lon/lat columns of a CSV: told its CRS, the same numbers; not told, a warning.
   const std::string csv = write_file("sample_island_points.csv",
@@ -125,7 +125,8 @@ TEST(CliSample, LongitudeLatitudePointsLandOnThePolygonsPlane) {
   const std::vector<Feature> rows = read_layer(from_csv);
   ASSERT_EQ(rows.size(), 4u);
   for (std::size_t i = 0; i < 4; ++i)
-    EXPECT_NEAR(number(rows[i], "omega"), number(features[i], "omega"), 1e-9 * (1.0 + std::abs(number(rows[i], "omega"))))
+    EXPECT_NEAR(number(rows[i], "omega"), number(features[i], "omega"),
+                1e-9 * (1.0 + std::abs(number(rows[i], "omega"))))
         << rows[i].fields.at("name");
   EXPECT_EQ(rows[3].fields.at("lon"), "11.1");
   const Result untold = run("sample " + model + " " + csv + " -o " + from_csv.string());

@@ -1,8 +1,10 @@
 #include <sage/sampling/grid.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace sage {
@@ -49,6 +51,27 @@ std::array<int, 3> Grid::parse_resolution(const std::string& text, int dimension
     throw std::invalid_argument("grid '" + text + "': " + std::to_string(static_cast<long long>(total)) +
                                 " points is more than the limit of " + std::to_string(kMaxGridPoints));
   return n;
+}
+
+void Grid::space_points(double spacing) {
+  std::ostringstream given;
+  given << spacing;
+  if (!(spacing > 0) || !std::isfinite(spacing))
+    throw std::invalid_argument(given.str() + ": must be a positive distance between grid points (the model's units)");
+  double total = 1;
+  for (int a = 0; a < dimension; ++a) {
+    // A hair under the quotient: bounds a whole number of steps apart get
+    // no extra point from rounding.
+    const double steps = std::ceil((hi[a] - lo[a]) / spacing * (1 - 1e-12));
+    if (!(steps < 100000))
+      throw std::invalid_argument(given.str() + ": over 100000 points along an axis; give a larger one");
+    points[a] = std::max(2, static_cast<int>(steps) + 1);
+    hi[a] = lo[a] + (points[a] - 1) * spacing;
+    total *= points[a];
+  }
+  if (total > kMaxGridPoints)
+    throw std::invalid_argument(given.str() + ": " + std::to_string(static_cast<long long>(total)) +
+                                " points is more than the limit of " + std::to_string(kMaxGridPoints));
 }
 
 void Grid::parse_bounds(const std::string& text, int dimension, std::array<double, 3>& lo, std::array<double, 3>& hi) {

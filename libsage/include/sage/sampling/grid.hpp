@@ -71,6 +71,10 @@ struct Grid {
 
   /// Parses "200x200" (2D) or "64x64x64" (3D); throws std::invalid_argument.
   static std::array<int, 3> parse_resolution(const std::string& text, int dimension);
+  /// Points `spacing` apart from lo on, up to the first at or past hi (hi
+  /// moves there), at least two per axis; throws std::invalid_argument for
+  /// a spacing that is not positive or gives too many points.
+  void space_points(double spacing);
   /// Parses "xmin,xmax,ymin,ymax[,zmin,zmax]"; throws std::invalid_argument.
   static void parse_bounds(const std::string& text, int dimension, std::array<double, 3>& lo,
                            std::array<double, 3>& hi);

@@ -1,0 +1,28 @@
+#pragma once
+// The parts of the Python module `sage` (module.cpp), one file each:
+// models and their fields (model_bindings.cpp), solves (solve_bindings.cpp),
+// and the numpy conversions they share.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace sage::python {
+
+namespace py = pybind11;
+
+void bind_models(py::module_& m);
+void bind_solve(py::module_& m);
+
+/// An (n, dimension) float64 array's rows as points (z = 0 in 2D); throws
+/// ValueError naming `what` for another shape.
+std::vector<std::array<double, 3>> points_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
+                                            int dimension, const std::string& what);
+
+/// A new float64 array of `shape`, filled from values (C order).
+py::array_t<double> array_of(const std::vector<py::ssize_t>& shape, const double* values);
+
+}  // namespace sage::python

@@ -1,0 +1,157 @@
+"""The Python module `sage` against the command line and the mathematics.
+
+Run by CTest (python.module) with PYTHONPATH at the built module,
+SAGE_EXECUTABLE the `sage` program and SAGE_SOURCE_DIR the checkout.
+"""
+import csv
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+import sage
+
+SOURCE = os.environ.get("SAGE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+SAGE = os.environ.get("SAGE_EXECUTABLE", "sage")
+PLATE = os.path.join(SOURCE, "examples", "models", "plate_with_holes.json")
+ISLAND = os.path.join(SOURCE, "examples", "models", "island_with_lake.geojson")
+DISK = os.path.join(SOURCE, "examples", "problems", "disk.json")
+
+
+class ModelTest(unittest.TestCase):
+    def test_evaluate_equals_the_command_line(self):
+        """Model.evaluate and `sage sample` at the same points: the same numbers."""
+        model = sage.load(PLATE)
+        self.assertEqual(model.dimension, 2)
+        rng = np.random.default_rng(7)
+        points = rng.uniform([-2.2, -1.2], [2.2, 1.2], size=(200, 2))
+        ours = model.evaluate(points, order=2)
+        with tempfile.TemporaryDirectory() as folder:
+            given = os.path.join(folder, "points.csv")
+            with open(given, "w") as f:
+                f.write("x,y\n")
+                for x, y in points:
+                    f.write(f"{x!r},{y!r}\n")
+            written = os.path.join(folder, "out.csv")
+            subprocess.run([SAGE, "sample", PLATE, given, "-o", written, "--order", "2", "-q"], check=True)
+            with open(written) as f:
+                rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 200)
+        for name, column in (("omega", ours["omega"]), ("grad_x", ours["grad"][:, 0]),
+                             ("grad_norm", ours["grad_norm"]), ("d2_xy", ours["d2_xy"])):
+            theirs = np.array([float(r[name]) for r in rows])
+            np.testing.assert_allclose(column, theirs, rtol=1e-13, atol=1e-14, err_msg=name)
+
+    def test_gradient_is_the_derivative(self):
+        model = sage.load(PLATE)
+        points = np.array([[0.3, -0.5], [-1.7, 0.8], [1.9, 0.1]])
+        step = 1e-6
+        r = model.evaluate(points)
+        for axis in range(2):
+            shift = np.zeros(2)
+            shift[axis] = step
+            plus = model.evaluate(points + shift, order=0)["omega"]
+            minus = model.evaluate(points - shift, order=0)["omega"]
+            np.testing.assert_allclose(r["grad"][:, axis], (plus - minus) / (2 * step), atol=1e-6)
+
+    def test_sample_grid_matches_evaluate(self):
+        """sample(): arrays (ny, nx), row 0 at the smallest y, axes and a geotransform."""
+        model = sage.load(PLATE)
+        g = model.sample(grid=(41, 23), exact=True)
+        self.assertEqual(g["omega"].shape, (23, 41))
+        self.assertEqual(g["grad"].shape, (23, 41, 2))
+        x, y = g["x"], g["y"]
+        self.assertAlmostEqual(x[0], -2.2)
+        self.assertAlmostEqual(y[-1], 1.2)
+        xx, yy = np.meshgrid(x, y)
+        at = model.evaluate(np.column_stack([xx.ravel(), yy.ravel()]))
+        np.testing.assert_allclose(g["omega"].ravel(), at["omega"], rtol=0, atol=1e-12)
+        origin_x, dx, _, origin_y, _, dy = g["geotransform"]
+        self.assertAlmostEqual(origin_x + 0.5 * dx, x[0])
+        self.assertAlmostEqual(origin_y + 0.5 * dy, y[0])
+        self.assertIn("exact", g["evaluation"])
+        by_spacing = model.sample(resolution=0.1, order=0)
+        self.assertAlmostEqual(by_spacing["x"][1] - by_spacing["x"][0], 0.1)
+        self.assertNotIn("grad", by_spacing)
+
+    def test_gis_polygons_are_projected(self):
+        """Longitude/latitude polygons: a plane in metres, its CRS as WKT, unit gradient on the coast."""
+        island = sage.load(ISLAND)
+        self.assertIn("azimuthal", island.crs_wkt.lower())
+        (xmin, ymin), (xmax, ymax) = island.bounds
+        self.assertGreater(xmax - xmin, 1000.0)
+        g = island.sample(grid=(200, 200))
+        # Where the coast crosses the middle row: found by bisection, |grad omega| = 1 there.
+        row = 100
+        y, x, omega = g["y"][row], g["x"], g["omega"][row]
+        crossings = np.nonzero(np.sign(omega[:-1]) != np.sign(omega[1:]))[0]
+        self.assertGreaterEqual(len(crossings), 2)
+        for i in crossings:
+            a, b = x[i], x[i + 1]
+            side = np.sign(omega[i])
+            for _ in range(60):
+                middle = 0.5 * (a + b)
+                if np.sign(island.evaluate(np.array([[middle, y]]), order=0)["omega"][0]) == side:
+                    a = middle
+                else:
+                    b = middle
+            at = island.evaluate(np.array([[a, y]]))
+            self.assertLess(abs(at["omega"][0]), 1e-6)
+            self.assertAlmostEqual(at["grad_norm"][0], 1.0, places=6)
+
+    def test_errors_are_exceptions_with_the_message(self):
+        with self.assertRaises(sage.ModelError) as caught:
+            sage.load(os.path.join(SOURCE, "no_such_model.json"))
+        self.assertIn("no_such_model.json", str(caught.exception))
+        self.assertTrue(issubclass(sage.ModelError, ValueError))
+        model = sage.load(PLATE)
+        with self.assertRaises(ValueError):
+            model.evaluate(np.zeros((4, 3)))
+        with self.assertRaises(ValueError):
+            model.evaluate(np.zeros((4, 2)), order=9)
+        with self.assertRaises(ValueError):
+            model.sample(grid=(10, 10), resolution=0.1)
+
+    def test_help_documents_the_methods(self):
+        self.assertIn("evaluate(points, order=1)", sage.Model.evaluate.__doc__)
+        self.assertIn("geotransform", sage.Model.sample.__doc__)
+        self.assertIn("load(path", sage.load.__doc__)
+
+
+class SolveTest(unittest.TestCase):
+    def test_disk_from_a_file_and_from_a_dict(self):
+        """The disk's manufactured solution u = sin(pi (x^2 + y^2)): the report's error and u at points."""
+        points = np.array([[0.5, 0.0], [0.0, -0.3], [0.6, 0.6]])
+        r = sage.solve(DISK, points, degree=3, cells=64)
+        self.assertLess(r["report"]["l2_error"], 1e-5)
+        with tempfile.TemporaryDirectory() as folder:
+            printed = subprocess.run([SAGE, "solve", DISK, "-o", os.path.join(folder, "disk.vtu"), "--degree", "3",
+                                      "--cells", "64"], check=True, capture_output=True, text=True).stdout
+        cli_l2 = float(printed.split("L2 ")[1].split(",")[0])
+        self.assertAlmostEqual(r["report"]["l2_error"] / cli_l2, 1.0, places=3)
+        exact = np.sin(math.pi * (points ** 2).sum(axis=1))
+        np.testing.assert_allclose(r["u"], exact, atol=1e-4)
+        self.assertGreater(r["omega"][0], 0.0)
+        import json
+        with open(DISK) as f:
+            problem = json.load(f)
+        again = sage.solve(problem, points, degree=3, cells=64)
+        np.testing.assert_array_equal(again["u"], r["u"])
+
+    def test_elasticity_gives_stresses(self):
+        bracket = os.path.join(SOURCE, "examples", "problems", "bracket.json")
+        r = sage.solve(bracket, np.array([[0.0, 0.0]]), cells=48)
+        self.assertGreater(r["report"]["strain_energy"], 0.0)
+        self.assertEqual(r["stress"].shape, (1, 6))
+        self.assertEqual(r["displacement"].shape, (1, 2))
+
+    def test_bad_problem_is_a_problem_error(self):
+        with self.assertRaises(sage.ProblemError):
+            sage.solve({"domain": PLATE, "source": "x +"})
+
+
+if __name__ == "__main__":
+    unittest.main()
