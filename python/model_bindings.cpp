@@ -18,12 +18,6 @@ namespace sage::python {
 
 namespace {
 
-/// A model and its tape, compiled once for all its evaluations.
-struct PyModel {
-  geometry::Model model;
-  std::shared_ptr<const Tape> tape;
-};
-
 /// The samples as a dict of arrays: each point's numbers at `shape`.
 py::dict dict_of(const FieldSamples& s, int dimension, const std::vector<py::ssize_t>& shape) {
   py::dict out;
@@ -48,6 +42,13 @@ py::dict dict_of(const FieldSamples& s, int dimension, const std::vector<py::ssi
   return out;
 }
 
+PyModel wrap(geometry::Model model) {
+  PyModel m;
+  m.tape = std::make_shared<const Tape>(model.field, model.dimension);
+  m.model = std::move(model);
+  return m;
+}
+
 void check_order(int order) {
   if (order < 0 || order > kMaxSampleOrder)
     throw py::value_error("order must be from 0 to " + std::to_string(kMaxSampleOrder));
@@ -65,13 +66,8 @@ PyModel load(const std::string& path, const std::optional<std::string>& rfunctio
   options.where = where;
   options.features = features;
   options.repair = repair;
-  PyModel m;
-  {
-    py::gil_scoped_release unlocked;
-    m.model = geometry::load_model(path, options);
-    m.tape = std::make_shared<const Tape>(m.model.field, m.model.dimension);
-  }
-  return m;
+  py::gil_scoped_release unlocked;
+  return wrap(geometry::load_model(path, options));
 }
 
 py::dict evaluate(const PyModel& self, const py::array_t<double, py::array::c_style | py::array::forcecast>& points,
@@ -153,8 +149,8 @@ py::dict sample(const PyModel& self, const std::optional<std::vector<int>>& coun
     out["geotransform"] = py::make_tuple(grid.lo[0] - 0.5 * dx, dx, 0.0, grid.lo[1] - 0.5 * dy, 0.0, dy);
   }
   out["crs"] = self.model.crs_wkt;
-  out["evaluation"] = s.far_faces_rejected ? std::string("exact (far faces in single precision deviated too much)")
-                                           : plan.description;
+  out["evaluation"] =
+      s.far_faces_rejected ? std::string("exact (far faces in single precision deviated too much)") : plan.description;
   return out;
 }
 
@@ -168,8 +164,9 @@ void bind_models(py::module_& m) {
       .def_property_readonly("dimension", [](const PyModel& p) { return p.model.dimension; })
       .def_property_readonly("name", [](const PyModel& p) { return p.model.name; })
       .def_property_readonly("source", [](const PyModel& p) { return p.model.source; })
-      .def_property_readonly("crs_wkt", [](const PyModel& p) { return p.model.crs_wkt; },
-                             "the coordinate reference system of the field's plane, as WKT ('' when none)")
+      .def_property_readonly(
+          "crs_wkt", [](const PyModel& p) { return p.model.crs_wkt; },
+          "the coordinate reference system of the field's plane, as WKT ('' when none)")
       .def_property_readonly("notes", [](const PyModel& p) { return p.model.notes; })
       .def_property_readonly("warnings", [](const PyModel& p) { return p.model.warnings; })
       .def_property_readonly(
@@ -212,6 +209,34 @@ void bind_models(py::module_& m) {
         "layer, where='NAME = ...', features=[0, 2], crs='EPSG:4326' for data without one, repair), or a\n"
         "closed triangle mesh (.off, .stl, .obj, .ply). rfunction: 'r0', 'rp:4', 'ralpha:0.5', 'minmax'...\n"
         "method: 'csg' (well-formed CSG) or 'brep' (trimmed edges/faces). Raises ModelError.");
+  m.def(
+      "from_geojson",
+      [](const py::object& geojson, const std::optional<std::string>& crs, const std::string& method, bool repair) {
+        return wrap(model_from_geojson(geojson, crs, method, repair));
+      },
+      py::arg("geojson"), py::kw_only(), py::arg("crs") = py::none(), py::arg("method") = "csg",
+      py::arg("repair") = false,
+      "from_geojson(geojson, *, crs=None, method='csg', repair=False) -> Model\n\n"
+      "Polygons from GeoJSON: a dict (a FeatureCollection, Feature or geometry, as json.load gives\n"
+      "it, or __geo_interface__) or its text. Longitude/latitude (RFC 7946) unless crs says otherwise.");
+  m.def(
+      "from_wkb",
+      [](const py::bytes& wkb, const std::optional<std::string>& crs, const std::string& method, bool repair) {
+        return wrap(model_from_wkb(wkb, crs, method, repair));
+      },
+      py::arg("wkb"), py::kw_only(), py::arg("crs") = py::none(), py::arg("method") = "csg", py::arg("repair") = false,
+      "from_wkb(wkb, *, crs=None, method='csg', repair=False) -> Model\n\n"
+      "A Polygon or MultiPolygon as WKB bytes (shapely's geometry.wkb; geopandas: gdf.union_all().wkb\n"
+      "with crs=gdf.crs.to_wkt()). Planar coordinates unless crs is given.");
+  m.def(
+      "from_mesh",
+      [](const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
+         const py::array_t<long long, py::array::c_style | py::array::forcecast>& triangles,
+         const std::string& method) { return wrap(model_from_mesh(vertices, triangles, method)); },
+      py::arg("vertices"), py::arg("triangles"), py::kw_only(), py::arg("method") = "csg",
+      "from_mesh(vertices, triangles, *, method='csg') -> Model\n\n"
+      "A closed triangle mesh from an (n, 3) float array of vertices and an (m, 3) integer array of\n"
+      "triangles (0-based, outward or consistently oriented), validated as a mesh file would be.");
 }
 
 }  // namespace sage::python

@@ -17,13 +17,13 @@
 namespace sage::python {
 
 std::vector<std::array<double, 3>> points_of(const py::array_t<double, py::array::c_style | py::array::forcecast>& a,
-                                            int dimension, const std::string& what) {
+                                             int dimension, const std::string& what) {
   if (a.ndim() != 2 || a.shape(1) != dimension)
     throw py::value_error(what + ": expected an array of shape (n, " + std::to_string(dimension) + "), got " +
                           std::to_string(a.ndim()) + " dimension(s)" +
-                          (a.ndim() == 2 ? " of shape (" + std::to_string(a.shape(0)) + ", " +
-                                               std::to_string(a.shape(1)) + ")"
-                                         : std::string()));
+                          (a.ndim() == 2
+                               ? " of shape (" + std::to_string(a.shape(0)) + ", " + std::to_string(a.shape(1)) + ")"
+                               : std::string()));
   std::vector<std::array<double, 3>> points(static_cast<std::size_t>(a.shape(0)), {0.0, 0.0, 0.0});
   const auto view = a.unchecked<2>();
   for (py::ssize_t i = 0; i < a.shape(0); ++i)

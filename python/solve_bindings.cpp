@@ -138,10 +138,9 @@ std::string problem_file_of(const py::dict& problem) {
   return path.string();
 }
 
-py::dict solve(const py::object& problem, const std::optional<py::array_t<double, py::array::c_style |
-                                                                                   py::array::forcecast>>& points,
-               std::optional<int> degree, std::optional<int> cells, std::optional<double> h,
-               const std::string& kind) {
+py::dict solve(const py::object& problem,
+               const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
+               std::optional<int> degree, std::optional<int> cells, std::optional<double> h, const std::string& kind) {
   const bool from_dict = py::isinstance<py::dict>(problem);
   const std::string path = from_dict ? problem_file_of(problem.cast<py::dict>()) : problem.cast<std::string>();
   std::optional<problems::ProblemFile> file;
@@ -158,7 +157,9 @@ py::dict solve(const py::object& problem, const std::optional<py::array_t<double
   const std::vector<std::array<double, 3>> at =
       points ? points_of(*points, d, "points") : std::vector<std::array<double, 3>>{};
   return std::visit(
-      [&](const auto& physics) { return d == 2 ? solve_in<2>(physics, options, at) : solve_in<3>(physics, options, at); },
+      [&](const auto& physics) {
+        return d == 2 ? solve_in<2>(physics, options, at) : solve_in<3>(physics, options, at);
+      },
       file->physics);
 }
 

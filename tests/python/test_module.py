@@ -121,6 +121,67 @@ class ModelTest(unittest.TestCase):
         self.assertIn("load(path", sage.load.__doc__)
 
 
+def polygon_wkb(rings, multi=None):
+    """WKB of a Polygon (a list of rings, each a list of (x, y)), or of a MultiPolygon of such."""
+    import struct
+
+    def one(rings):
+        data = struct.pack("<BII", 1, 3, len(rings))
+        for ring in rings:
+            data += struct.pack("<I", len(ring)) + b"".join(struct.pack("<dd", x, y) for x, y in ring)
+        return data
+
+    if multi is None:
+        return one(rings)
+    return struct.pack("<BII", 1, 6, len(multi)) + b"".join(one(p) for p in multi)
+
+
+def square(x0, y0, side):
+    return [(x0, y0), (x0 + side, y0), (x0 + side, y0 + side), (x0, y0 + side), (x0, y0)]
+
+
+class MemorySourceTest(unittest.TestCase):
+    def test_geojson_dict_is_the_file(self):
+        import json
+        with open(ISLAND) as f:
+            data = json.load(f)
+        from_dict, from_file = sage.from_geojson(data), sage.load(ISLAND)
+        points = np.array([[0.0, 0.0], [-1500.0, 800.0], [4000.0, 4000.0]])
+        np.testing.assert_array_equal(from_dict.evaluate(points)["omega"], from_file.evaluate(points)["omega"])
+        self.assertEqual(from_dict.crs_wkt, from_file.crs_wkt)
+
+    def test_wkb_polygon_with_a_hole_and_a_multipolygon(self):
+        """Planar WKB (shapely's .wkb): a square with a square hole; two squares."""
+        holed = sage.from_wkb(polygon_wkb([square(0, 0, 10), square(4, 4, 2)[::-1]]))
+        self.assertEqual(holed.crs_wkt, "")
+        r = holed.evaluate(np.array([[1.0, 5.0], [5.0, 5.0], [5.0, 0.0], [12.0, 5.0]]))
+        self.assertGreater(r["omega"][0], 0.0)  # in the frame
+        self.assertLess(r["omega"][1], 0.0)     # in the hole
+        self.assertAlmostEqual(r["omega"][2], 0.0, places=12)  # on the outer edge
+        self.assertAlmostEqual(r["grad_norm"][2], 1.0, places=9)
+        self.assertLess(r["omega"][3], 0.0)
+        two = sage.from_wkb(polygon_wkb(None, multi=[[square(0, 0, 1)], [square(3, 0, 1)]]))
+        omega = two.evaluate(np.array([[0.5, 0.5], [3.5, 0.5], [2.0, 0.5]]), order=0)["omega"]
+        self.assertTrue(omega[0] > 0 and omega[1] > 0 and omega[2] < 0)
+        with self.assertRaises(ValueError):
+            sage.from_wkb(b"not wkb")
+
+    def test_mesh_from_arrays(self):
+        """A unit cube from numpy arrays; an open one is refused with the mesh's message."""
+        vertices = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], dtype=float)
+        triangles = np.array([[0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], [0, 1, 4], [1, 5, 4],
+                              [2, 6, 3], [3, 6, 7], [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5]])
+        cube = sage.from_mesh(vertices, triangles)
+        self.assertEqual(cube.dimension, 3)
+        omega = cube.evaluate(np.array([[0.5, 0.5, 0.5], [2.0, 0.5, 0.5], [0.5, 0.5, 0.0]]), order=0)["omega"]
+        self.assertGreater(omega[0], 0.0)
+        self.assertLess(omega[1], 0.0)
+        self.assertAlmostEqual(omega[2], 0.0, places=12)
+        with self.assertRaises(sage.ModelError) as caught:
+            sage.from_mesh(vertices, triangles[:-1])
+        self.assertIn("mesh from Python", str(caught.exception))
+
+
 class SolveTest(unittest.TestCase):
     def test_disk_from_a_file_and_from_a_dict(self):
         """The disk's manufactured solution u = sin(pi (x^2 + y^2)): the report's error and u at points."""
