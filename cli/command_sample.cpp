@@ -1,5 +1,5 @@
 // sage sample MODEL POINTS -o OUT.csv|.geojson|.gpkg|.shp|.fgb [--order K] [--points-crs CRS]
-//             [--points-layer NAME] [--rfunction R]
+//             [--points-layer NAME] [--rfunction R] [--tolerance T | --exact]
 //
 // The field and its derivatives at places a user lists (wells, sensors,
 // parcels): a CSV with x, y (and z) or lon, lat columns, or any OGR point
@@ -12,6 +12,7 @@
 
 #include <sage/output/point_layer.hpp>
 #include <sage/sampling/field_samples.hpp>
+#include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/tape.hpp>
 
 #include <boost/program_options.hpp>
@@ -59,7 +60,8 @@ int run_sample(const std::vector<std::string>& args) {
       "MODEL: a JSON model, GIS vector data or a mesh, as for sage field.\n"
       "POINTS: a CSV file with columns x and y (or lon and lat; z for 3D), or any\n"
       "point layer GDAL reads (.gpkg, .geojson, .shp, ...).\n"
-      "Evaluates the model's field exactly at every point and writes the points with\n"
+      "Evaluates the model's field at every point (as sage field: far-field patches\n"
+      "where they pay, --exact to forbid them) and writes the points with\n"
       "their attributes and new ones: omega, grad_x, grad_y (grad_z), grad_norm, and\n"
       "d<k>_<xy..> for --order k >= 2. OUT: .csv, .geojson, .json, .gpkg, .shp or .fgb.\n"
       "Points with a coordinate reference system (the file's or --points-crs) are\n"
@@ -76,6 +78,12 @@ int run_sample(const std::vector<std::string>& args) {
   add("points-layer", po::value(&points_layer), "the points' layer name (default: the first)");
   add("rfunction", po::value(&rfunction),
       "default R-function: minmax, r0, ralpha:A, ralpha:var, rp:P, rm:M (P, M even)");
+  double tolerance = 0.0;
+  add("tolerance", po::value(&tolerance),
+      "far-field approximation: parts of the field far from a group of points become polynomial patches, each "
+      "within this fraction of the points' bounding box's diagonal (0: exact). Default: 1e-10 for 2D R-function "
+      "fields, exact otherwise (as sage field)");
+  add("exact", "evaluate the whole field at every point in double precision (as --tolerance 0)");
   add("quiet,q", "no summary");
   geometry::LoadOptions load;
   SourceOptionText source_text;
@@ -95,15 +103,24 @@ int run_sample(const std::vector<std::string>& args) {
   for (const std::string& warning : layer.warnings) std::cerr << "warning: " << warning << "\n";
   if (model.dimension == 3 && !layer.has_z)
     throw std::runtime_error(points_path + ": the model is 3D, and not every point has a z coordinate");
+  if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
+  if (vm.count("tolerance") && !(tolerance >= 0 && tolerance < 1e-2))
+    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+  std::optional<double> chosen;
+  if (vm.count("tolerance")) chosen = tolerance;
+  if (vm.count("exact")) chosen = 0.0;
   const Tape tape(model.field, model.dimension);
-  const FieldSamples samples = sample_points(tape, layer.points, order);
+  const SamplingPlan plan = plan_points(tape, layer.points, order, chosen);
+  const FieldSamples samples = sample_points(tape, layer.points, order, &plan.approximation);
   output::write_point_layer(points_path, point_options, output_path, attributes_of(samples, model.dimension));
   if (vm.count("quiet") == 0) {
     const auto [low, high] = std::minmax_element(samples.omega.begin(), samples.omega.end());
     const auto inside = std::count_if(samples.omega.begin(), samples.omega.end(), [](double w) { return w > 0.0; });
     std::cout << "wrote " << output_path << ": " << layer.points.size() << " points (" << inside
-              << " inside the domain), omega in [" << *low << ", " << *high << "], exact evaluation\n"
-              << "coordinates: " << layer.coordinates << "\n";
+              << " inside the domain), omega in [" << *low << ", " << *high << "]\n"
+              << "coordinates: " << layer.coordinates << "\n"
+              << plan.description
+              << (plan.evaluation == SamplingPlan::Evaluation::Exact ? "" : "; --exact for exact evaluation") << "\n";
   }
   return 0;
 }

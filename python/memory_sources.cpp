@@ -109,8 +109,9 @@ geometry::Model model_from_wkb(const py::bytes& wkb, const std::optional<std::st
     OGRSpatialReference srs;
     if (crs && srs.SetFromUserInput(crs->c_str()) != OGRERR_NONE)
       throw py::value_error("crs " + *crs + ": PROJ does not know this coordinate reference system");
-    OGRLayer* layer =
-        dataset ? dataset->CreateLayer("geometry", crs ? &srs : nullptr, geometry->getGeometryType(), nullptr) : nullptr;
+    OGRLayer* layer = dataset
+                          ? dataset->CreateLayer("geometry", crs ? &srs : nullptr, geometry->getGeometryType(), nullptr)
+                          : nullptr;
     if (!layer) throw std::runtime_error("GDAL could not make an in-memory layer");
     OGRFeature feature(layer->GetLayerDefn());
     feature.SetGeometry(geometry.get());
@@ -133,7 +134,8 @@ geometry::Model model_from_mesh(const py::array_t<double, py::array::c_style | p
     const auto v = vertices.unchecked<2>();
     for (py::ssize_t i = 0; i < vertices.shape(0); ++i) off << v(i, 0) << " " << v(i, 1) << " " << v(i, 2) << "\n";
     const auto t = triangles.unchecked<2>();
-    for (py::ssize_t i = 0; i < triangles.shape(0); ++i) off << "3 " << t(i, 0) << " " << t(i, 1) << " " << t(i, 2) << "\n";
+    for (py::ssize_t i = 0; i < triangles.shape(0); ++i)
+      off << "3 " << t(i, 0) << " " << t(i, 1) << " " << t(i, 2) << "\n";
   }
   geometry::Model model;
   try {

@@ -71,15 +71,19 @@ PyModel load(const std::string& path, const std::optional<std::string>& rfunctio
 }
 
 py::dict evaluate(const PyModel& self, const py::array_t<double, py::array::c_style | py::array::forcecast>& points,
-                  int order) {
+                  int order, bool exact) {
   check_order(order);
   const std::vector<std::array<double, 3>> at = points_of(points, self.model.dimension, "points");
+  const SamplingPlan plan =
+      plan_points(*self.tape, at, order, exact ? std::optional<double>(0.0) : std::optional<double>());
   FieldSamples s;
   {
     py::gil_scoped_release unlocked;
-    s = sample_points(*self.tape, at, order);
+    s = sample_points(*self.tape, at, order, &plan.approximation);
   }
-  return dict_of(s, self.model.dimension, {static_cast<py::ssize_t>(at.size())});
+  py::dict out = dict_of(s, self.model.dimension, {static_cast<py::ssize_t>(at.size())});
+  out["evaluation"] = plan.description;
+  return out;
 }
 
 /// The grid sample() samples: bounds given or the model's, a count per
@@ -182,11 +186,14 @@ void bind_models(py::module_& m) {
             return py::make_tuple(py::tuple(lo), py::tuple(hi));
           },
           "((xmin, ymin[, zmin]), (xmax, ymax[, zmax])), or None")
-      .def("evaluate", &evaluate, py::arg("points"), py::arg("order") = 1,
-           "evaluate(points, order=1) -> dict\n\n"
-           "omega and its derivatives at points, an (n, dimension) array in the model's coordinates,\n"
-           "evaluated exactly on all cores: 'omega' (n,), and for order >= 1 'grad' (n, dimension) and\n"
-           "'grad_norm' (n,), and for order k >= 2 each partial 'd<k>_<xy..>' (n,), e.g. 'd2_xy'.")
+      .def("evaluate", &evaluate, py::arg("points"), py::arg("order") = 1, py::kw_only(), py::arg("exact") = false,
+           "evaluate(points, order=1, *, exact=False) -> dict\n\n"
+           "omega and its derivatives at points, an (n, dimension) array in the model's coordinates, on\n"
+           "all cores, as `sage sample` evaluates them (groups of nearby points run the field pruned to\n"
+           "their box; far-field patches where they pay, within 1e-10 of the points' bounding box's\n"
+           "diagonal, unless exact=True): 'omega' (n,), and for order >= 1 'grad' (n, dimension) and\n"
+           "'grad_norm' (n,), for order k >= 2 each partial 'd<k>_<xy..>' (n,), e.g. 'd2_xy';\n"
+           "'evaluation' says how.")
       .def("sample", &sample, py::kw_only(), py::arg("grid") = py::none(), py::arg("resolution") = py::none(),
            py::arg("bounds") = py::none(), py::arg("order") = 1, py::arg("exact") = false,
            "sample(*, grid=None, resolution=None, bounds=None, order=1, exact=False) -> dict\n\n"

@@ -16,6 +16,7 @@ packages=(
   libbenchmark-dev           # bench/
   clang-format               # format check in CI
   python3-dev pybind11-dev python3-numpy  # the Python module (python/)
+  python3-shapely python3-geopandas python3-matplotlib python3-gdal  # its tests and example
   "$@"
 )
 

@@ -3,7 +3,6 @@
 Run by CTest (python.module) with PYTHONPATH at the built module,
 SAGE_EXECUTABLE the `sage` program and SAGE_SOURCE_DIR the checkout.
 """
-import csv
 import math
 import os
 import subprocess
@@ -23,27 +22,33 @@ DISK = os.path.join(SOURCE, "examples", "problems", "disk.json")
 
 class ModelTest(unittest.TestCase):
     def test_evaluate_equals_the_command_line(self):
-        """Model.evaluate and `sage sample` at the same points: the same numbers."""
+        """Model.evaluate and `sage sample` at the same points: the same bits, exact or not.
+
+        The GeoPackage that `sage sample` writes keeps doubles whole; sqlite3 reads them back.
+        """
+        import sqlite3
         model = sage.load(PLATE)
         self.assertEqual(model.dimension, 2)
         rng = np.random.default_rng(7)
-        points = rng.uniform([-2.2, -1.2], [2.2, 1.2], size=(200, 2))
-        ours = model.evaluate(points, order=2)
-        with tempfile.TemporaryDirectory() as folder:
-            given = os.path.join(folder, "points.csv")
-            with open(given, "w") as f:
-                f.write("x,y\n")
-                for x, y in points:
-                    f.write(f"{x!r},{y!r}\n")
-            written = os.path.join(folder, "out.csv")
-            subprocess.run([SAGE, "sample", PLATE, given, "-o", written, "--order", "2", "-q"], check=True)
-            with open(written) as f:
-                rows = list(csv.DictReader(f))
-        self.assertEqual(len(rows), 200)
-        for name, column in (("omega", ours["omega"]), ("grad_x", ours["grad"][:, 0]),
-                             ("grad_norm", ours["grad_norm"]), ("d2_xy", ours["d2_xy"])):
-            theirs = np.array([float(r[name]) for r in rows])
-            np.testing.assert_allclose(column, theirs, rtol=1e-13, atol=1e-14, err_msg=name)
+        points = rng.uniform([-2.2, -1.2], [2.2, 1.2], size=(2000, 2))
+        for flags, exact in (([], False), (["--exact"], True)):
+            ours = model.evaluate(points, order=2, exact=exact)
+            self.assertIn("exact" if exact else "far-field", ours["evaluation"])
+            with tempfile.TemporaryDirectory() as folder:
+                given = os.path.join(folder, "points.csv")
+                with open(given, "w") as f:
+                    f.write("x,y\n")
+                    for x, y in points:
+                        f.write(f"{x!r},{y!r}\n")
+                written = os.path.join(folder, "out.gpkg")
+                subprocess.run([SAGE, "sample", PLATE, given, "-o", written, "--order", "2", "-q"] + flags,
+                               check=True)
+                with sqlite3.connect(written) as db:
+                    rows = db.execute("SELECT omega, grad_x, grad_norm, d2_xy FROM points ORDER BY fid").fetchall()
+            theirs = np.array(rows)
+            self.assertEqual(theirs.shape, (2000, 4))
+            for k, column in enumerate((ours["omega"], ours["grad"][:, 0], ours["grad_norm"], ours["d2_xy"])):
+                np.testing.assert_array_equal(column, theirs[:, k], err_msg=f"column {k}, exact={exact}")
 
     def test_gradient_is_the_derivative(self):
         model = sage.load(PLATE)
@@ -116,7 +121,7 @@ class ModelTest(unittest.TestCase):
             model.sample(grid=(10, 10), resolution=0.1)
 
     def test_help_documents_the_methods(self):
-        self.assertIn("evaluate(points, order=1)", sage.Model.evaluate.__doc__)
+        self.assertIn("exact: bool = False", sage.Model.evaluate.__doc__)
         self.assertIn("geotransform", sage.Model.sample.__doc__)
         self.assertIn("load(path", sage.load.__doc__)
 
@@ -180,6 +185,111 @@ class MemorySourceTest(unittest.TestCase):
         with self.assertRaises(sage.ModelError) as caught:
             sage.from_mesh(vertices, triangles[:-1])
         self.assertIn("mesh from Python", str(caught.exception))
+
+
+def available(module):
+    import importlib.util
+    return importlib.util.find_spec(module) is not None
+
+
+@unittest.skipUnless(available("shapely") and available("geopandas"), "needs python3-shapely and python3-geopandas")
+class ShapelyGeopandasTest(unittest.TestCase):
+    def test_shapely_polygon_with_a_hole_and_a_multipolygon(self):
+        from shapely.geometry import MultiPolygon, Polygon
+        frame = Polygon([(0, 0), (10, 0), (10, 10), (0, 10)], [[(4, 4), (4, 6), (6, 6), (6, 4)]])
+        model = sage.from_wkb(frame.wkb)
+        r = model.evaluate(np.array([[1.0, 5.0], [5.0, 5.0], [5.0, 0.0]]), exact=True)
+        self.assertGreater(r["omega"][0], 0.0)
+        self.assertLess(r["omega"][1], 0.0)
+        self.assertEqual(r["omega"][2], 0.0)
+        two = sage.from_wkb(MultiPolygon([frame, Polygon([(20, 0), (21, 0), (21, 1), (20, 1)])]).wkb)
+        self.assertGreater(two.evaluate(np.array([[20.5, 0.5]]), order=0)["omega"][0], 0.0)
+
+    def test_self_intersecting_polygon_names_its_ring_and_vertex(self):
+        """A bow tie: the same message as the command line's for the same polygon in a file."""
+        from shapely.geometry import Polygon, mapping
+        import json
+        bowtie = Polygon([(0, 0), (2, 2), (2, 0), (0, 2)])
+        with self.assertRaises(sage.ModelError) as caught:
+            sage.from_wkb(bowtie.wkb)
+        message = str(caught.exception)
+        self.assertIn("ring 0 (exterior), vertex", message)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "bowtie.geojson")
+            with open(path, "w") as f:
+                json.dump({"type": "Feature", "properties": {}, "geometry": mapping(bowtie)}, f)
+            cli = subprocess.run([SAGE, "info", path, "--crs", "EPSG:32633"], capture_output=True, text=True)
+        self.assertEqual(cli.returncode, 1)
+        self.assertIn(message.split(": ", 1)[1], cli.stderr)
+
+    def test_geopandas_round_trip(self):
+        """Points of a GeoDataFrame in lon/lat, to the field's plane with geopandas, evaluated, saved, read back."""
+        import geopandas as gpd
+        island = sage.load(ISLAND)
+        wells = gpd.GeoDataFrame({"name": ["farm", "lake", "sea"]},
+                                 geometry=gpd.points_from_xy([11.004, 11.030, 11.100], [57.030, 57.030, 57.100]),
+                                 crs="EPSG:4326")
+        planar = wells.to_crs(island.crs_wkt)
+        at = island.evaluate(np.column_stack([planar.geometry.x, planar.geometry.y]))
+        with tempfile.TemporaryDirectory() as folder:
+            # The wells through `sage sample`, which projects them itself.
+            given, sampled = os.path.join(folder, "wells.gpkg"), os.path.join(folder, "sampled.gpkg")
+            wells.to_file(given, driver="GPKG")
+            subprocess.run([SAGE, "sample", ISLAND, given, "-o", sampled, "-q"], check=True)
+            theirs = gpd.read_file(sampled)
+            # And ours, saved and read back.
+            wells["omega"] = at["omega"]
+            path = os.path.join(folder, "evaluated.gpkg")
+            wells.to_file(path, driver="GPKG")
+            back = gpd.read_file(path)
+        self.assertEqual(list(theirs["name"]), ["farm", "lake", "sea"])
+        np.testing.assert_array_equal(back["omega"].to_numpy(), at["omega"])
+        np.testing.assert_allclose(theirs["omega"].to_numpy(), at["omega"], rtol=1e-9, atol=1e-6)
+        self.assertTrue(at["omega"][0] > 0 > at["omega"][1] and at["omega"][2] < 0)
+
+
+@unittest.skipUnless(available("osgeo"), "needs python3-gdal")
+class GeoTiffTest(unittest.TestCase):
+    def test_geotiff_read_back_with_gdal(self):
+        """`sage field -o .tif`: CRS, geotransform, band names, values of Model.sample, the coast on omega = 0."""
+        from osgeo import gdal, osr
+        island = sage.load(ISLAND)
+        with tempfile.TemporaryDirectory() as folder:
+            tif = os.path.join(folder, "island.tif")
+            subprocess.run([SAGE, "field", ISLAND, "-o", tif, "--resolution", "25", "-q"], check=True)
+            raster = gdal.Open(tif)
+            names = [raster.GetRasterBand(b + 1).GetDescription() for b in range(raster.RasterCount)]
+            omega = raster.GetRasterBand(1).ReadAsArray().astype(np.float64)
+            transform = raster.GetGeoTransform()
+            wkt = raster.GetProjection()
+        self.assertEqual(names[:4], ["omega", "grad_omega_x", "grad_omega_y", "grad_norm"])
+        self.assertTrue(osr.SpatialReference(wkt).IsSame(osr.SpatialReference(island.crs_wkt)))
+        g = island.sample(resolution=25.0)
+        self.assertAlmostEqual(transform[1], 25.0)
+        self.assertAlmostEqual(transform[5], -25.0)  # north-up
+        self.assertAlmostEqual(transform[0], g["geotransform"][0])
+        expected = np.flipud(g["omega"])
+        self.assertEqual(omega.shape, expected.shape)
+        np.testing.assert_allclose(omega, expected.astype(np.float32), rtol=1e-6, atol=1e-3)
+        # The polygons' vertices (lon/lat, projected as sage projects them) lie on omega's zero
+        # contour to a pixel: omega changes sign among the pixels around each.
+        import json
+        with open(ISLAND) as f:
+            rings = [ring for feature in json.load(f)["features"]
+                     for polygon in feature["geometry"]["coordinates"] for ring in polygon]
+        source = osr.SpatialReference()
+        source.ImportFromEPSG(4326)
+        source.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
+        target = osr.SpatialReference(island.crs_wkt)
+        target.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
+        project = osr.CoordinateTransformation(source, target)
+        for ring in rings:
+            for lon, lat in ring:
+                x, y, _ = project.TransformPoint(lon, lat)
+                column = int((x - transform[0]) / transform[1])
+                row = int((y - transform[3]) / transform[5])
+                around = omega[row - 1:row + 2, column - 1:column + 2]
+                self.assertTrue(around.min() < 0.0 < around.max(), f"vertex {lon}, {lat}")
 
 
 class SolveTest(unittest.TestCase):

@@ -1,5 +1,6 @@
 #include <sage/sampling/field_samples.hpp>
 #include <sage/sampling/pruned_grid.hpp>
+#include <sage/sampling/pruned_points.hpp>
 #include <sage/scalars/tuple.hpp>
 #include <sage/tape/batch_evaluator.hpp>
 
@@ -86,36 +87,30 @@ FieldSamples sample(const Tape& tape, const Grid& grid, const Progress& progress
   return s;
 }
 
-/// Exactly at each of `points`, 64 at a time through the batch evaluator, on all cores.
+/// At each of `points`, in groups pruned (and patched, with an
+/// approximation) to their boxes, on all cores (pruned_points.hpp).
 template <int N, int K>
-FieldSamples sample_at(const Tape& tape, const std::vector<std::array<double, 3>>& points) {
+FieldSamples sample_at(const Tape& tape, const std::vector<std::array<double, 3>>& points,
+                       const Approximation* approximation) {
   using T = SampleScalar<N, K>;
-  constexpr std::size_t kBatch = 64;
   std::vector<std::vector<int>> positions;
   FieldSamples s = empty_samples<N, K>(points.size(), positions);
-  const auto batches = static_cast<long long>((points.size() + kBatch - 1) / kBatch);
-#pragma omp parallel
-  {
-    BatchEvaluator<T> batch(tape, kBatch);
-#pragma omp for schedule(dynamic, 16)
-    for (long long b = 0; b < batches; ++b) {
-      const std::size_t first = static_cast<std::size_t>(b) * kBatch;
-      const std::size_t count = std::min(kBatch, points.size() - first);
-      batch.evaluate(points.data() + first, count);
-      for (std::size_t l = 0; l < count; ++l) store<N, K>(s, first + l, batch.result(l), positions);
-    }
-  }
+  s.far_field_tolerance = approximation ? approximation->tolerance : 0.0;
+  for_each_point_pruned<T>(
+      tape, points, [&](std::size_t p, const auto& eval) { store<N, K>(s, p, eval.result(), positions); },
+      approximation);
   return s;
 }
 
 template <int N, int K = 0>
-FieldSamples dispatch_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order) {
+FieldSamples dispatch_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order,
+                             const Approximation* approximation) {
   if constexpr (K > kMaxSampleOrder) {
     throw std::invalid_argument("order " + std::to_string(order) + " is above the maximum " +
                                 std::to_string(kMaxSampleOrder));
   } else {
-    if (order == K) return sample_at<N, K>(tape, points);
-    return dispatch_points<N, K + 1>(tape, points, order);
+    if (order == K) return sample_at<N, K>(tape, points, approximation);
+    return dispatch_points<N, K + 1>(tape, points, order, approximation);
   }
 }
 
@@ -182,11 +177,12 @@ FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const P
   return s;
 }
 
-FieldSamples sample_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order) {
+FieldSamples sample_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order,
+                           const Approximation* approximation) {
   if (order < 0 || order > kMaxSampleOrder)
     throw std::invalid_argument("order must be from 0 to " + std::to_string(kMaxSampleOrder));
-  if (tape.dimension() == 2) return dispatch_points<2>(tape, points, order);
-  return dispatch_points<3>(tape, points, order);
+  if (tape.dimension() == 2) return dispatch_points<2>(tape, points, order, approximation);
+  return dispatch_points<3>(tape, points, order, approximation);
 }
 
 }  // namespace sage

@@ -1,6 +1,7 @@
 #include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/far_faces.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -9,11 +10,11 @@ namespace sage {
 
 namespace {
 
-std::string describe(const SamplingPlan& plan) {
+std::string describe(const SamplingPlan& plan, const char* box = "the grid box") {
   std::ostringstream text;
   switch (plan.evaluation) {
     case SamplingPlan::Evaluation::FarField:
-      text << "far-field approximation: patches within " << plan.relative_tolerance << " of the grid box's diagonal ("
+      text << "far-field approximation: patches within " << plan.relative_tolerance << " of " << box << "'s diagonal ("
            << plan.approximation.tolerance << ") each"
            << (plan.by_default ? " (the default for 2D R-function fields)" : "");
       break;
@@ -45,6 +46,26 @@ SamplingPlan plan_sampling(const Tape& tape, const Grid& grid, int order, std::o
                     : plan.approximation.far_faces   ? SamplingPlan::Evaluation::FarFaces
                                                      : SamplingPlan::Evaluation::Exact;
   plan.description = describe(plan);
+  return plan;
+}
+
+SamplingPlan plan_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order,
+                         std::optional<double> tolerance) {
+  Grid box;
+  box.dimension = tape.dimension();
+  if (!points.empty()) {
+    box.lo = box.hi = points.front();
+    for (const auto& p : points)
+      for (int a = 0; a < box.dimension; ++a) {
+        box.lo[a] = std::min(box.lo[a], p[a]);
+        box.hi[a] = std::max(box.hi[a], p[a]);
+      }
+  }
+  SamplingPlan plan = plan_sampling(tape, box, order, tolerance);
+  plan.approximation.far_faces = false;  // their check samples grid points: points run faces exactly
+  plan.evaluation =
+      plan.approximation.tolerance > 0 ? SamplingPlan::Evaluation::FarField : SamplingPlan::Evaluation::Exact;
+  plan.description = describe(plan, "the points' bounding box");
   return plan;
 }
 

@@ -63,10 +63,14 @@ FieldSamples sample_field(const Tape& tape, const Grid& grid, int order, const P
                           const Approximation* approximation = nullptr);
 
 /// The same arrays at a list of points (the tape's dimension of
-/// coordinates each, the rest ignored), in their order, evaluated exactly
-/// (no far-field patches: the points may be anywhere, few or many), on
-/// all cores: the numbers sample_field gives at a grid point that is one
-/// of them, bit for bit. `grid` is left empty.
-FieldSamples sample_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order);
+/// coordinates each, the rest ignored), in their order, on all cores:
+/// groups of nearby points run the tape pruned to their box
+/// (pruned_points.hpp). Exactly without `approximation` (the numbers
+/// sample_field gives exactly at a grid point that is one of them, bit for
+/// bit); with one, far-field patches as sample_field's (plan them with
+/// plan_points in sampling_plan.hpp). Far mesh faces run exactly. `grid`
+/// is left empty.
+FieldSamples sample_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order,
+                           const Approximation* approximation = nullptr);
 
 }  // namespace sage

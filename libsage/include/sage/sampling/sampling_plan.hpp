@@ -15,8 +15,10 @@
 #include <sage/tape/tape.hpp>
 #include <sage/tape/tape_specialization.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace sage {
 
@@ -42,5 +44,10 @@ struct SamplingPlan {
 /// std::invalid_argument for a negative or non-finite tolerance.
 SamplingPlan plan_sampling(const Tape& tape, const Grid& grid, int order,
                            std::optional<double> tolerance = std::nullopt);
+
+/// The same for scattered points (sample_points): the tolerance relative to
+/// the diagonal of their bounding box; far mesh faces never (exact).
+SamplingPlan plan_points(const Tape& tape, const std::vector<std::array<double, 3>>& points, int order,
+                         std::optional<double> tolerance = std::nullopt);
 
 }  // namespace sage
