@@ -42,14 +42,16 @@ void SymmetricProduct::apply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const
       scatter.setZero();
       double* spread = scatter.data();  // spread[i - first] for rows i >= first
       for (Eigen::Index c = first; c < last; ++c) {
-        const int begin = outer[c], end = compressed ? outer[c + 1] : outer[c] + nonzeros[c];
+        int k = outer[c];
+        const int end = compressed ? outer[c + 1] : outer[c] + nonzeros[c];
         const double xc = x[c];
         double gathered = 0.0;
-        for (int k = begin; k < end; ++k) {
+        if (k < end && inner[k] == c) gathered += values[k++] * xc;  // the diagonal comes first (rows sorted)
+        for (; k < end; ++k) {
           const int i = inner[k];
           const double v = values[k];
           gathered += v * x[i];
-          if (i != c) spread[i - first] += v * xc;
+          spread[i - first] += v * xc;
         }
         spread[c - first] += gathered;
       }
