@@ -14,6 +14,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -132,10 +133,20 @@ std::string problem_file_of(const py::dict& problem) {
   if (copy.contains("domain") && py::isinstance<py::str>(copy["domain"]))
     copy["domain"] = py::module_::import("os.path").attr("abspath")(copy["domain"]);
   const std::string text = py::module_::import("json").attr("dumps")(copy).cast<std::string>();
+  static std::atomic<int> made{0};
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / ("sage-problem-" + std::to_string(::getpid()) + ".json");
+      std::filesystem::temp_directory_path() /
+      ("sage-problem-" + std::to_string(::getpid()) + "-" + std::to_string(made++) + ".json");
   std::ofstream(path) << text;
   return path.string();
+}
+
+/// The message of `e` naming "the problem dict" in place of its temporary file.
+std::string renamed(const std::exception& e, const std::string& path) {
+  std::string message = e.what();
+  for (auto at = message.find(path); at != std::string::npos; at = message.find(path))
+    message.replace(at, path.size(), "the problem dict");
+  return message;
 }
 
 py::dict solve(const py::object& problem,
@@ -147,6 +158,14 @@ py::dict solve(const py::object& problem,
   try {
     py::gil_scoped_release unlocked;
     file = problems::read_problem_file(path);
+  } catch (const problems::ProblemError& e) {
+    if (!from_dict) throw;
+    std::filesystem::remove(path);
+    throw problems::ProblemError(renamed(e, path));
+  } catch (const geometry::ModelError& e) {
+    if (!from_dict) throw;
+    std::filesystem::remove(path);
+    throw geometry::ModelError(renamed(e, path));
   } catch (...) {
     if (from_dict) std::filesystem::remove(path);
     throw;

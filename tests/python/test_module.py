@@ -320,8 +320,10 @@ class SolveTest(unittest.TestCase):
         self.assertEqual(r["displacement"].shape, (1, 2))
 
     def test_bad_problem_is_a_problem_error(self):
-        with self.assertRaises(sage.ProblemError):
+        with self.assertRaises(sage.ProblemError) as caught:
             sage.solve({"domain": PLATE, "source": "x +"})
+        self.assertIn("the problem dict", str(caught.exception))
+        self.assertNotIn("sage-problem-", str(caught.exception))
 
 
 if __name__ == "__main__":
