@@ -146,6 +146,9 @@ void write_point_layer(const std::string& input, const PointLayerOptions& option
                        const std::vector<PointArray>& arrays) {
   const Format* format = format_of(output);
   if (!format) throw OutputError(output + ": sage writes points as " + point_layer_formats());
+  std::error_code ignored;
+  if (std::filesystem::equivalent(input, output, ignored))
+    throw OutputError(output + ": is the points file itself; write the samples to another file");
   check_writable(output);
   const CPLErrorHandlerPusher quiet(CPLQuietErrorHandler);
   CPLErrorReset();

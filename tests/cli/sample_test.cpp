@@ -194,6 +194,10 @@ TEST(CliSample, BadPointFilesAreNamed) {
   const Result crs = run("sample " + model + " " + points + " -o " + out.string() + " --points-crs EPSG:999999");
   EXPECT_EQ(crs.exit_code, 1) << crs.output;
   EXPECT_NE(crs.output.find("--points-crs EPSG:999999: PROJ does not know"), std::string::npos) << crs.output;
+  const Result itself = run("sample " + model + " " + points + " -o " + points);
+  EXPECT_EQ(itself.exit_code, 1) << itself.output;
+  EXPECT_NE(itself.output.find("is the points file itself"), std::string::npos) << itself.output;
+  EXPECT_TRUE(fs::exists(points));
   const std::string taken = write_file("sample_taken.csv", "x,y,omega\n0,0,1\n");
   const Result clash = run("sample " + model + " " + taken + " -o " + out.string());
   EXPECT_EQ(clash.exit_code, 1) << clash.output;
