@@ -5,6 +5,7 @@
 #include "bindings.hpp"
 
 #include <sage/problems/problem_file.hpp>
+#include <sage/sampling/grid.hpp>
 #include <sage/solver/default_grid.hpp>
 #include <sage/solver/elastic_material.hpp>
 #include <sage/solver/elasticity.hpp>
@@ -15,6 +16,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -76,54 +78,123 @@ py::dict report_of(const solver::SolveReport& r) {
   return out;
 }
 
+/// Where the solution is wanted: points in the order given (`shape` {n}),
+/// or a grid's points, x fastest (`shape` {ny, nx} or {nz, ny, nx}), where
+/// the values outside the domain (omega < 0) become NaN.
+struct Places {
+  std::vector<std::array<double, 3>> points;
+  std::vector<py::ssize_t> shape;
+  bool grid = false;
+};
+
+/// `shape` followed by `trailing` (none for 0).
+std::vector<py::ssize_t> shaped(const Places& at, py::ssize_t trailing) {
+  std::vector<py::ssize_t> shape = at.shape;
+  if (trailing > 0) shape.push_back(trailing);
+  return shape;
+}
+
+/// NaN in every `width` values of a point outside the domain, on a grid.
+void mask_outside(const Places& at, const std::vector<double>& omega, std::vector<double>& values, std::size_t width) {
+  if (!at.grid) return;
+  for (std::size_t p = 0; p < omega.size(); ++p)
+    if (!(omega[p] >= 0.0)) std::fill_n(values.begin() + static_cast<std::ptrdiff_t>(p * width), width, std::nan(""));
+}
+
 template <int D>
-py::dict solve_in(const solver::PoissonProblem& problem, const solver::SolverOptions& options,
-                  const std::vector<std::array<double, 3>>& at) {
+py::dict solve_in(const solver::PoissonProblem& problem, const solver::SolverOptions& options, const Places& at) {
+  const std::size_t n = at.points.size();
+  std::vector<double> u(n), gradient(n * D), omega(n);
   py::dict out;
-  std::vector<double> u(at.size()), gradient(at.size() * D), omega(at.size());
   {
     py::gil_scoped_release unlocked;
     const solver::PoissonSolution<D> solution = solver::solve_poisson<D>(problem, options);
-    typename solver::PoissonSolution<D>::Probe probe(solution);
-    for (std::size_t p = 0; p < at.size(); ++p) {
-      u[p] = probe.at(at[p].data(), gradient.data() + p * D);
-      omega[p] = probe.omega(at[p].data());
+#pragma omp parallel
+    {
+      typename solver::PoissonSolution<D>::Probe probe(solution);  // one per thread
+#pragma omp for schedule(dynamic, 256)
+      for (std::size_t p = 0; p < n; ++p) {
+        u[p] = probe.at(at.points[p].data(), gradient.data() + p * D);
+        omega[p] = probe.omega(at.points[p].data());
+      }
     }
     py::gil_scoped_acquire locked;
     out["report"] = report_of(solution.report);
   }
-  const auto n = static_cast<py::ssize_t>(at.size());
-  out["u"] = array_of({n}, u.data());
-  out["grad_u"] = array_of({n, D}, gradient.data());
-  out["omega"] = array_of({n}, omega.data());
+  mask_outside(at, omega, u, 1);
+  mask_outside(at, omega, gradient, D);
+  out["u"] = array_of(shaped(at, 0), u.data());
+  out["grad_u"] = array_of(shaped(at, D), gradient.data());
+  out["omega"] = array_of(shaped(at, 0), omega.data());
   return out;
 }
 
 template <int D>
-py::dict solve_in(const solver::ElasticityProblem& problem, const solver::SolverOptions& options,
-                  const std::vector<std::array<double, 3>>& at) {
+py::dict solve_in(const solver::ElasticityProblem& problem, const solver::SolverOptions& options, const Places& at) {
+  const std::size_t n = at.points.size();
+  std::vector<double> displacement(n * D), stress(n * 6), mises(n), omega(n);
   py::dict out;
-  std::vector<double> displacement(at.size() * D), stress(at.size() * 6), mises(at.size()), omega(at.size());
   {
     py::gil_scoped_release unlocked;
     const solver::ElasticitySolution<D> solution = solver::solve_elasticity<D>(problem, options);
-    typename solver::ElasticitySolution<D>::Probe probe(solution);
-    for (std::size_t p = 0; p < at.size(); ++p) {
-      probe.at(at[p].data(), displacement.data() + p * D);
-      const std::array<double, 6> s = probe.stress(at[p].data());
-      std::copy(s.begin(), s.end(), stress.begin() + static_cast<std::ptrdiff_t>(6 * p));
-      mises[p] = solver::von_mises(s);
-      omega[p] = probe.omega(at[p].data());
+#pragma omp parallel
+    {
+      typename solver::ElasticitySolution<D>::Probe probe(solution);  // one per thread
+#pragma omp for schedule(dynamic, 256)
+      for (std::size_t p = 0; p < n; ++p) {
+        probe.at(at.points[p].data(), displacement.data() + p * D);
+        const std::array<double, 6> s = probe.stress(at.points[p].data());
+        std::copy(s.begin(), s.end(), stress.begin() + static_cast<std::ptrdiff_t>(6 * p));
+        mises[p] = solver::von_mises(s);
+        omega[p] = probe.omega(at.points[p].data());
+      }
     }
     py::gil_scoped_acquire locked;
     out["report"] = report_of(solution.report);
   }
-  const auto n = static_cast<py::ssize_t>(at.size());
-  out["displacement"] = array_of({n, D}, displacement.data());
-  out["stress"] = array_of({n, 6}, stress.data());
-  out["von_mises"] = array_of({n}, mises.data());
-  out["omega"] = array_of({n}, omega.data());
+  mask_outside(at, omega, displacement, D);
+  mask_outside(at, omega, stress, 6);
+  mask_outside(at, omega, mises, 1);
+  out["displacement"] = array_of(shaped(at, D), displacement.data());
+  out["stress"] = array_of(shaped(at, 6), stress.data());
+  out["von_mises"] = array_of(shaped(at, 0), mises.data());
+  out["omega"] = array_of(shaped(at, 0), omega.data());
   return out;
+}
+
+/// A grid over the problem's box: `counts` points per axis, or points `resolution` apart.
+Places grid_places(const solver::ProblemDomain& domain, const std::optional<std::vector<int>>& counts,
+                   std::optional<double> resolution, py::dict& axes) {
+  const int d = domain.dimension;
+  Grid grid;
+  grid.dimension = d;
+  for (int a = 0; a < d; ++a) {
+    grid.lo[a] = domain.min[a];
+    grid.hi[a] = domain.max[a];
+  }
+  if (counts) {
+    if (static_cast<int>(counts->size()) != d)
+      throw py::value_error("grid: expected " + std::to_string(d) + " point counts");
+    for (int a = 0; a < d; ++a) {
+      if ((*counts)[a] < 2 || (*counts)[a] > 100000) throw py::value_error("grid: each count must be from 2 to 100000");
+      grid.points[a] = (*counts)[a];
+    }
+  } else {
+    grid.space_points(*resolution);
+  }
+  if (static_cast<double>(grid.size()) > static_cast<double>(kMaxGridPoints))
+    throw py::value_error("grid: more points than the limit of " + std::to_string(kMaxGridPoints));
+  Places at;
+  at.grid = true;
+  for (int a = d - 1; a >= 0; --a) at.shape.push_back(grid.points[a]);
+  at.points.resize(grid.size());
+  for (std::size_t p = 0; p < grid.size(); ++p) at.points[p] = grid.point(p);
+  for (int a = 0; a < d; ++a) {
+    std::vector<double> axis(static_cast<std::size_t>(grid.points[a]));
+    for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = grid.lo[a] + static_cast<double>(i) * grid.spacing(a);
+    axes[py::str(std::string(1, "xyz"[a]))] = array_of({grid.points[a]}, axis.data());
+  }
+  return at;
 }
 
 /// A problem given as a dict: written as JSON to a temporary file (its
@@ -151,7 +222,10 @@ std::string renamed(const std::exception& e, const std::string& path) {
 
 py::dict solve(const py::object& problem,
                const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
-               std::optional<int> degree, std::optional<int> cells, std::optional<double> h, const std::string& kind) {
+               std::optional<int> degree, std::optional<int> cells, std::optional<double> h, const std::string& kind,
+               const std::optional<std::vector<int>>& grid, std::optional<double> resolution) {
+  if (points && (grid || resolution)) throw py::value_error("give points, or grid or resolution, not both");
+  if (grid && resolution) throw py::value_error("give grid or resolution, not both");
   const bool from_dict = py::isinstance<py::dict>(problem);
   const std::string path = from_dict ? problem_file_of(problem.cast<py::dict>()) : problem.cast<std::string>();
   std::optional<problems::ProblemFile> file;
@@ -173,13 +247,23 @@ py::dict solve(const py::object& problem,
   if (from_dict) std::filesystem::remove(path);
   const int d = file->domain().dimension;
   const solver::SolverOptions options = options_for(*file, degree, cells, h, kind);
-  const std::vector<std::array<double, 3>> at =
-      points ? points_of(*points, d, "points") : std::vector<std::array<double, 3>>{};
-  return std::visit(
+  py::dict axes;
+  Places at;
+  if (grid || resolution) {
+    at = grid_places(file->domain(), grid, resolution, axes);
+  } else if (points) {
+    at.points = points_of(*points, d, "points");
+    at.shape = {static_cast<py::ssize_t>(at.points.size())};
+  } else {
+    at.shape = {0};
+  }
+  py::dict out = std::visit(
       [&](const auto& physics) {
         return d == 2 ? solve_in<2>(physics, options, at) : solve_in<3>(physics, options, at);
       },
       file->physics);
+  for (const auto& [name, axis] : axes) out[name] = axis;
+  return out;
 }
 
 }  // namespace
@@ -187,14 +271,15 @@ py::dict solve(const py::object& problem,
 void bind_solve(py::module_& m) {
   m.def("solve", &solve, py::arg("problem"), py::arg("points") = py::none(), py::kw_only(),
         py::arg("degree") = py::none(), py::arg("cells") = py::none(), py::arg("h") = py::none(),
-        py::arg("solver") = "auto",
-        "solve(problem, points=None, *, degree=None, cells=None, h=None, solver='auto') -> dict\n\n"
+        py::arg("solver") = "auto", py::arg("grid") = py::none(), py::arg("resolution") = py::none(),
         "Solves a problem file (a path, or the same JSON as a dict; a dict's relative 'domain' path is\n"
         "read from the current directory) as `sage solve` does, with its defaults: degree 2, 64 cells\n"
         "across in 2D, the part-fitted default grid in 3D. Returns 'report' (unknowns, iterations,\n"
-        "errors when the problem has an exact solution, seconds, ...) and, at points ((n, dimension)\n"
-        "array): heat problems 'u', 'grad_u', 'omega'; elasticity 'displacement', 'stress' (n, 6:\n"
-        "xx, yy, zz, xy, yz, xz), 'von_mises', 'omega'. Raises ProblemError, ModelError, ValueError,\n"
+        "errors when the problem has an exact solution, seconds, ...) and the solution at points\n"
+        "((n, dimension) array), or on a grid over the problem's box (grid=(nx, ny[, nz]) points per\n"
+        "axis, or resolution=R), shaped (ny, nx) or (nz, ny, nx) with the axes 'x', 'y' ('z') and NaN\n"
+        "outside the domain: heat problems 'u', 'grad_u', 'omega'; elasticity 'displacement', 'stress'\n"
+        "(xx, yy, zz, xy, yz, xz), 'von_mises', 'omega'. Raises ProblemError, ModelError, ValueError,\n"
         "RuntimeError (the grid cannot carry the problem, the solve failed).");
 }
 

@@ -312,6 +312,21 @@ class SolveTest(unittest.TestCase):
         again = sage.solve(problem, points, degree=3, cells=64)
         np.testing.assert_array_equal(again["u"], r["u"])
 
+    def test_solution_on_a_grid(self):
+        """grid=(nx, ny): arrays (ny, nx) over the problem's box, NaN outside the disk, the same as at points."""
+        r = sage.solve(DISK, degree=3, cells=32, grid=(41, 31))
+        u, x, y = r["u"], r["x"], r["y"]
+        self.assertEqual(u.shape, (31, 41))
+        self.assertEqual(r["grad_u"].shape, (31, 41, 2))
+        inside = x[None, :] ** 2 + y[:, None] ** 2 < 0.95 ** 2
+        outside = x[None, :] ** 2 + y[:, None] ** 2 > 1.05 ** 2
+        self.assertTrue(np.isfinite(u[inside]).all())
+        self.assertTrue(np.isnan(u[outside]).all())
+        at = sage.solve(DISK, np.array([[x[30], y[20]]]), degree=3, cells=32)
+        self.assertEqual(at["u"][0], u[20, 30])
+        with self.assertRaises(ValueError):
+            sage.solve(DISK, np.zeros((1, 2)), grid=(10, 10))
+
     def test_elasticity_gives_stresses(self):
         bracket = os.path.join(SOURCE, "examples", "problems", "bracket.json")
         r = sage.solve(bracket, np.array([[0.0, 0.0]]), cells=48)
