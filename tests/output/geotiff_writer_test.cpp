@@ -43,7 +43,7 @@ std::string utm33_wkt() {
 TEST(GeoTiffWriter, PixelsAreCentredOnTheGridPointsNorthUp) {
   const auto s = samples_of("x^2 * y + 3 * y", 2);
   const std::string path = temp_path("field.tif");
-  sage::output::write_geotiff(path, s, {utm33_wkt(), false});
+  sage::output::write_geotiff(path, s, {utm33_wkt(), false, ""});
   const auto tif = read_geotiff(path);
   ASSERT_EQ(tif.width, 5);
   ASSERT_EQ(tif.height, 7);
@@ -88,7 +88,7 @@ TEST(GeoTiffWriter, Float32TiledDeflateCogByDefaultFloat64OnRequest) {
   const auto s = samples_of("exp(x) * sin(y)", 1);
   const std::string single = temp_path("single.tif"), twice = temp_path("double.tif");
   sage::output::write_geotiff(single, s);
-  sage::output::write_geotiff(twice, s, {"", true});
+  sage::output::write_geotiff(twice, s, {"", true, ""});
   const auto a = read_geotiff(single), b = read_geotiff(twice);
   EXPECT_EQ(a.bands[0].type, GDT_Float32);
   EXPECT_EQ(b.bands[0].type, GDT_Float64);
@@ -144,7 +144,7 @@ TEST(GeoTiffWriter, RefusesThreeDimensionsAndUnwritablePaths) {
 
 TEST(GeoTiffWriter, KeepsTheCoordinateReferenceSystem) {
   const std::string path = temp_path("utm.tif");
-  sage::output::write_geotiff(path, samples_of("x", 0), {utm33_wkt(), false});
+  sage::output::write_geotiff(path, samples_of("x", 0), {utm33_wkt(), false, ""});
   const auto tif = read_geotiff(path);
   ASSERT_TRUE(tif.crs);
   EXPECT_STREQ(tif.crs->GetAuthorityCode(nullptr), "32633");
