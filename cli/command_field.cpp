@@ -1,5 +1,6 @@
 // sage field MODEL -o OUT.vtu|.vti|.tif [--grid 200x200 | --resolution R] [--bounds ...] [--order K]
 //            [--rfunction r0] [--tolerance T | --exact] [--float64] [--crs-out EPSG:XXXX]
+//            [--compression zstd|deflate|none]
 
 #include "commands.hpp"
 #include "field_job.hpp"
@@ -37,6 +38,10 @@ int run_field(const std::vector<std::string>& args) {
   add("crs-out", po::value(&crs_out),
       "GeoTIFF: warp the raster into this CRS, e.g. EPSG:4326 (bilinear; the field is still evaluated in the plane "
       "where it was built)");
+  std::string compression;
+  add("compression", po::value(&compression),
+      "GeoTIFF: the tiles' compression, zstd (default; GDAL 2.3 and later, so QGIS and rasterio), deflate (for "
+      "readers on an older libtiff, twice as slow to write) or none");
   add("bounds", po::value(&bounds), "xmin,xmax,ymin,ymax[,zmin,zmax] (default: the model's \"bounds\")");
   add("order", po::value(&job.order)->default_value(1),
       "highest derivative order written (0 to 6; 0: omega only, for contouring)");
@@ -59,6 +64,7 @@ int run_field(const std::vector<std::string>& args) {
   if (vm.count("resolution")) job.resolution = resolution;
   job.float64 = vm.count("float64") > 0;
   if (vm.count("crs-out")) job.crs_out = crs_out;
+  if (vm.count("compression")) job.compression = compression;
   if (vm.count("bounds")) job.bounds = bounds;
   if (vm.count("rfunction")) job.rfunction = rfunction;
   if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace sage::cli {
 
@@ -25,7 +26,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 /// What a GeoTIFF holds, in words, for the summary.
 std::string describe_geotiff(const FieldSamples& samples, const geometry::Model& model,
-                             const output::GeoTiffOptions& options) {
+                             const output::GeoTiffOptions& options, const output::GeoTiffLayout& layout) {
   std::ostringstream text;
   const std::vector<std::string> bands = output::geotiff_band_names(samples);
   text << "GeoTIFF: " << bands.size() << (options.float64 ? " Float64" : " Float32") << " band(s)";
@@ -45,7 +46,25 @@ std::string describe_geotiff(const FieldSamples& samples, const geometry::Model&
   else
     text << "; warped (bilinear) into " << name(options.warp_to_wkt) << ": the field was evaluated in the plane where "
          << "it was built, " << name(model.crs_wkt) << ", and resampled; grad_omega_x, _y are that plane's components";
+  text << "; " << layout.width << " x " << layout.height << " pixels in 512-pixel "
+       << output::compression_name(options.compression) << " tiles, ";
+  if (layout.overview_levels > 0)
+    text << layout.overview_levels << " overview level(s)";
+  else
+    text << "no overviews (none under " << output::geotiff_overview_side << " pixels a side)";
   return text.str();
+}
+
+/// --compression, checked before the work.
+output::GeoTiffCompression compression_of(const FieldJob& job, bool geotiff) {
+  if (!job.compression) return output::GeoTiffCompression::zstd;
+  if (!geotiff) throw UsageError{"--compression is for GeoTIFF output (.tif)"};
+  using output::GeoTiffCompression;
+  const std::pair<const char*, GeoTiffCompression> names[] = {
+      {"zstd", GeoTiffCompression::zstd}, {"deflate", GeoTiffCompression::deflate}, {"none", GeoTiffCompression::none}};
+  for (const auto& [name, compression] : names)
+    if (*job.compression == name) return compression;
+  throw UsageError{"--compression " + *job.compression + ": use zstd, deflate or none"};
 }
 
 /// --crs-out as WKT, checked before the work (a usage error when unknown).
@@ -157,7 +176,7 @@ FieldReport run_field_job(const FieldJob& job) {
     throw UsageError{"-o " + job.output_path + ": the output must end in .vtu, .vti or .tif"};
   if (job.float64 && !geotiff) throw UsageError{"--float64 is for GeoTIFF output (.tif): .vtu and .vti hold doubles"};
   if (job.grid && job.resolution) throw UsageError{"give --grid or --resolution, not both"};
-  const output::GeoTiffOptions tiff_options{"", job.float64, warp_target(job, geotiff)};
+  const output::GeoTiffOptions tiff_options{"", job.float64, warp_target(job, geotiff), compression_of(job, geotiff)};
   if (job.order < 0 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
   if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
@@ -210,8 +229,8 @@ FieldReport run_field_job(const FieldJob& job) {
   if (geotiff) {
     output::GeoTiffOptions options = tiff_options;
     options.crs_wkt = model.crs_wkt;
-    output::write_geotiff(job.output_path, samples, options);
-    report.geotiff = describe_geotiff(samples, model, options);
+    const output::GeoTiffLayout layout = output::write_geotiff(job.output_path, samples, options);
+    report.geotiff = describe_geotiff(samples, model, options, layout);
   } else {
     output::write_field(job.output_path, samples);
   }

@@ -27,8 +27,9 @@ struct FieldJob {
   // diagonal (0 = exact sampling); unset: sage's default (plan_sampling).
   std::optional<double> tolerance;
   bool show_progress = true;
-  bool float64 = false;                // GeoTIFF bands in Float64 rather than Float32
-  std::optional<std::string> crs_out;  // GeoTIFF: warp into this CRS (EPSG:XXXX, ...)
+  bool float64 = false;                    // GeoTIFF bands in Float64 rather than Float32
+  std::optional<std::string> crs_out;      // GeoTIFF: warp into this CRS (EPSG:XXXX, ...)
+  std::optional<std::string> compression;  // GeoTIFF: "zstd", "deflate" or "none"
 };
 
 struct FieldReport {

@@ -122,6 +122,16 @@ TEST(CliGeoTiff, JsonModelIsNorthUpWithoutCrs) {
   EXPECT_EQ(file.at(0, 0, 2), 0.0);   // (0, 0)
   EXPECT_EQ(file.at(0, 4, 2), 4.0);   // (4, 0)
   EXPECT_TRUE(std::isnan(file.bands[0].nodata) && file.bands[0].has_nodata);
+  EXPECT_EQ(file.compression, "ZSTD");
+  EXPECT_NE(r.output.find("5 x 3 pixels in 512-pixel ZSTD tiles, no overviews"), std::string::npos) << r.output;
+
+  // --compression deflate for readers on an older libtiff: the same pixels.
+  const fs::path deflated = scratch("ramp_deflate.tif");
+  const Result d = run("field " + m + " --bounds 0,4,0,2 --grid 5x3 --compression deflate -o " + deflated.string());
+  ASSERT_EQ(d.exit_code, 0) << d.output;
+  const auto other = read_geotiff(deflated.string());
+  EXPECT_EQ(other.compression, "DEFLATE");
+  EXPECT_EQ(other.bands[0].values, file.bands[0].values);
 }
 
 // --resolution R: points R apart from the bounds' minimum on, up to the
@@ -238,6 +248,8 @@ TEST(CliGeoTiff, MisuseExitsWithTwo) {
   expect_usage("field " + plane + scratch("a.tif").string() + " --resolution 1e-6", "over 100000 points");
   expect_usage("field " + plane + scratch("a.png").string(), ".vtu, .vti or .tif");
   expect_usage("field " + plane + scratch("a.vti").string() + " --crs-out EPSG:4326", "--crs-out is for GeoTIFF");
+  expect_usage("field " + plane + scratch("a.vti").string() + " --compression none", "--compression is for GeoTIFF");
+  expect_usage("field " + plane + scratch("a.tif").string() + " --compression lzw", "use zstd, deflate or none");
   expect_usage("field " + plane + scratch("a.tif").string() + " --crs-out EPSG:4326", "no coordinate reference system");
   expect_usage("field " + test_data("gis/lake_vanern_se_osm.geojson") + " -q --crs-out EPSG:99999 -o " +
                    scratch("a.tif").string(),

@@ -1,6 +1,7 @@
 // GeoTIFF output: files written by sage read back with GDAL, pixels centred
 // on the grid points and north-up, one named band per array, the CRS as
-// given, NaN nodata, Float32 or Float64, a tiled DEFLATE-compressed COG.
+// given, NaN nodata, Float32 or Float64, a tiled ZSTD- or DEFLATE-compressed
+// COG, overviews for large rasters only.
 
 #include <sage/expression/formula.hpp>
 #include <sage/output/geotiff_writer.hpp>
@@ -43,7 +44,7 @@ std::string utm33_wkt() {
 TEST(GeoTiffWriter, PixelsAreCentredOnTheGridPointsNorthUp) {
   const auto s = samples_of("x^2 * y + 3 * y", 2);
   const std::string path = temp_path("field.tif");
-  sage::output::write_geotiff(path, s, {utm33_wkt(), false, ""});
+  sage::output::write_geotiff(path, s, {utm33_wkt(), false, "", sage::output::GeoTiffCompression::zstd});
   const auto tif = read_geotiff(path);
   ASSERT_EQ(tif.width, 5);
   ASSERT_EQ(tif.height, 7);
@@ -84,16 +85,17 @@ TEST(GeoTiffWriter, BandsAreNamedAsTheVtiArrays) {
   EXPECT_EQ(sage::output::geotiff_band_names(samples_of("x", 0)), std::vector<std::string>{"omega"});
 }
 
-TEST(GeoTiffWriter, Float32TiledDeflateCogByDefaultFloat64OnRequest) {
+TEST(GeoTiffWriter, Float32TiledZstdCogByDefaultFloat64AndDeflateOnRequest) {
   const auto s = samples_of("exp(x) * sin(y)", 1);
   const std::string single = temp_path("single.tif"), twice = temp_path("double.tif");
   sage::output::write_geotiff(single, s);
-  sage::output::write_geotiff(twice, s, {"", true, ""});
+  sage::output::write_geotiff(twice, s, {"", true, "", sage::output::GeoTiffCompression::deflate});
   const auto a = read_geotiff(single), b = read_geotiff(twice);
   EXPECT_EQ(a.bands[0].type, GDT_Float32);
   EXPECT_EQ(b.bands[0].type, GDT_Float64);
   EXPECT_EQ(a.layout, "COG");
-  EXPECT_EQ(a.compression, "DEFLATE");
+  EXPECT_EQ(a.compression, "ZSTD");
+  EXPECT_EQ(b.compression, "DEFLATE");
   EXPECT_EQ(a.block_width, 512);  // tiles, not strips of a row
   EXPECT_EQ(a.block_height, 512);
   EXPECT_FALSE(a.crs) << "no CRS given, none written";
@@ -106,6 +108,29 @@ TEST(GeoTiffWriter, Float32TiledDeflateCogByDefaultFloat64OnRequest) {
       EXPECT_EQ(b.at(0, column, row), s.omega[i]);
       EXPECT_EQ(a.at(0, column, row), static_cast<double>(static_cast<float>(s.omega[i])));
     }
+}
+
+// Overviews only for rasters with a side past geotiff_overview_side pixels
+// (they double the writing time and small rasters draw fast without).
+TEST(GeoTiffWriter, OverviewsOnlyForLargeRasters) {
+  auto strip = [](int width) {  // a strip one row too thin to matter
+    sage::Grid grid;
+    grid.lo = {0, 0, 0};
+    grid.hi = {1, 0.01, 0};
+    grid.points = {width, 4, 1};
+    return sage::sample_field(sage::Tape(sage::parse_formula("x", 2), 2), grid, 0);
+  };
+  const int side = sage::output::geotiff_overview_side;
+  const std::string small = temp_path("small.tif"), large = temp_path("large.tif");
+  const auto small_layout = sage::output::write_geotiff(small, strip(side));
+  const auto large_layout = sage::output::write_geotiff(large, strip(side + 1));
+  EXPECT_EQ(small_layout.overview_levels, 0);
+  EXPECT_EQ(read_geotiff(small).overviews, 0);
+  EXPECT_GE(large_layout.overview_levels, 1);
+  EXPECT_EQ(read_geotiff(large).overviews, large_layout.overview_levels);
+  EXPECT_EQ(large_layout.width, side + 1);
+  EXPECT_EQ(large_layout.height, 4);
+  EXPECT_EQ(read_geotiff(large).layout, "COG");
 }
 
 TEST(GeoTiffWriter, NonFiniteValuesAreNanNodata) {
@@ -144,7 +169,8 @@ TEST(GeoTiffWriter, RefusesThreeDimensionsAndUnwritablePaths) {
 
 TEST(GeoTiffWriter, KeepsTheCoordinateReferenceSystem) {
   const std::string path = temp_path("utm.tif");
-  sage::output::write_geotiff(path, samples_of("x", 0), {utm33_wkt(), false, ""});
+  sage::output::write_geotiff(path, samples_of("x", 0),
+                              {utm33_wkt(), false, "", sage::output::GeoTiffCompression::zstd});
   const auto tif = read_geotiff(path);
   ASSERT_TRUE(tif.crs);
   EXPECT_STREQ(tif.crs->GetAuthorityCode(nullptr), "32633");
@@ -162,7 +188,8 @@ TEST(GeoTiffWriter, WarpsIntoAnotherCrs) {
   const sage::Tape tape(sage::parse_formula("x - 400000", 2), 2);
   const auto s = sage::sample_field(tape, grid, 1);
   const std::string path = temp_path("warped.tif");
-  sage::output::write_geotiff(path, s, {utm33_wkt(), false, sage::output::crs_wkt_from("EPSG:4326")});
+  sage::output::write_geotiff(
+      path, s, {utm33_wkt(), false, sage::output::crs_wkt_from("EPSG:4326"), sage::output::GeoTiffCompression::zstd});
   const auto tif = read_geotiff(path);
   ASSERT_TRUE(tif.crs);
   EXPECT_STREQ(tif.crs->GetAuthorityCode(nullptr), "4326");
@@ -177,8 +204,10 @@ TEST(GeoTiffWriter, WarpsIntoAnotherCrs) {
   EXPECT_GT(west, 0.0);
   EXPECT_LT(east, 2000.0);
   EXPECT_GT(east - west, 500.0);
-  EXPECT_THROW(sage::output::write_geotiff(path, s, {"", false, sage::output::crs_wkt_from("EPSG:4326")}),
-               sage::output::OutputError);
+  EXPECT_THROW(
+      sage::output::write_geotiff(
+          path, s, {"", false, sage::output::crs_wkt_from("EPSG:4326"), sage::output::GeoTiffCompression::zstd}),
+      sage::output::OutputError);
   EXPECT_THROW(sage::output::crs_wkt_from("EPSG:99999"), sage::output::OutputError);
 }
 

@@ -33,6 +33,7 @@ struct GeoTiffFile {
   std::string layout, compression;              // IMAGE_STRUCTURE metadata: "COG", "DEFLATE"
   std::map<std::string, std::string> metadata;  // the default domain's items
   int block_width = 0, block_height = 0;
+  int overviews = 0;  // the first band's overview levels
 
   double at(std::size_t band, int column, int row) const {
     return bands.at(band).values.at(static_cast<std::size_t>(row) * width + column);
@@ -68,7 +69,10 @@ inline GeoTiffFile read_geotiff(const std::string& path) {
     int has = 0;
     out.nodata = band->GetNoDataValue(&has);
     out.has_nodata = has != 0;
-    if (b == 1) band->GetBlockSize(&file.block_width, &file.block_height);
+    if (b == 1) {
+      band->GetBlockSize(&file.block_width, &file.block_height);
+      file.overviews = band->GetOverviewCount();
+    }
     out.values.resize(static_cast<std::size_t>(file.width) * file.height);
     if (band->RasterIO(GF_Read, 0, 0, file.width, file.height, out.values.data(), file.width, file.height, GDT_Float64,
                        0, 0, nullptr) != CE_None)

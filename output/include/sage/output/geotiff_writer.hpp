@@ -1,7 +1,7 @@
 #pragma once
 // Writing a 2D field's samples as a GeoTIFF that QGIS and GDAL open
 // directly, with GDAL's COG driver (Cloud Optimized GeoTIFF: tiled,
-// DEFLATE-compressed, with overviews). One band per array component,
+// compressed, with overviews past geotiff_overview_side pixels). One band per array component,
 // named by its band description as the .vti arrays are named: omega, grad_omega_x,
 // grad_omega_y, grad_norm, then d<k>_omega_<partial> (d2_omega_xx, ...).
 //
@@ -23,11 +23,32 @@
 
 namespace sage::output {
 
+/// How the tiles are compressed. ZSTD is twice as fast as DEFLATE for the
+/// same size and every GDAL since 2.3 (QGIS, rasterio) reads it; DEFLATE
+/// is for readers built on an older libtiff.
+enum class GeoTiffCompression { zstd, deflate, none };
+
 struct GeoTiffOptions {
   std::string crs_wkt;      // the plane's coordinate reference system (WKT); empty: none is written
   bool float64 = false;     // Float64 bands in place of Float32
   std::string warp_to_wkt;  // non-empty: write the raster warped into this CRS (needs crs_wkt)
+  GeoTiffCompression compression = GeoTiffCompression::zstd;
 };
+
+/// GDAL's name of a compression: "ZSTD", "DEFLATE", "NONE".
+const char* compression_name(GeoTiffCompression compression);
+
+/// What write_geotiff wrote: the raster's size (after a warp, GDAL's) and
+/// its overview levels.
+struct GeoTiffLayout {
+  int width = 0;
+  int height = 0;
+  int overview_levels = 0;
+};
+
+/// Rasters with a side longer than this get overviews (halved copies for
+/// zoomed-out views); smaller ones draw fast without.
+inline constexpr int geotiff_overview_side = 2048;
 
 /// True if `path` ends in .tif or .tiff.
 bool is_geotiff_path(const std::string& path);
@@ -46,6 +67,6 @@ std::string crs_name(const std::string& wkt);
 /// Writes the samples of a 2D grid to `path` (atomically, as every
 /// writer): one band per array component, non-finite values as nodata (NaN). Throws
 /// OutputError naming the path for a 3D grid or when GDAL cannot write.
-void write_geotiff(const std::string& path, const FieldSamples& samples, const GeoTiffOptions& options = {});
+GeoTiffLayout write_geotiff(const std::string& path, const FieldSamples& samples, const GeoTiffOptions& options = {});
 
 }  // namespace sage::output
