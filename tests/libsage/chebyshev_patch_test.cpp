@@ -1,7 +1,7 @@
 // Chebyshev patches and far-field approximation: polynomials are fitted
 // exactly; analytic fields within the stated tail; kinks are refused;
 // interval evaluation encloses the patch; tuples give the patch's exact
-// derivatives, also a grid row at a time; fits right at their tail pass;
+// derivatives, also a grid row or a batch of scattered points at a time; fits right at their tail pass;
 // and approximated grid sampling of a large R0 tree stays
 // within its tolerance of exact evaluation, with far boxes reduced to a
 // single patch.
@@ -198,6 +198,67 @@ TEST(ChebyshevPatch, RowsMatchPointByPoint) {
       if (dimension == 1) expect_rows_match_points<1>(*patch, box, 21, rows);
       if (dimension == 2) expect_rows_match_points<2>(*patch, box, 22, rows);
       if (dimension == 3) expect_rows_match_points<3>(*patch, box, 23, rows);
+    }
+  }
+}
+
+// evaluate_points() is evaluate() at each scattered point, bit for bit, in
+// doubles and first-order tuples, over more than one pass of 64 lanes, also
+// when it writes over its first variable (as a batch's register may).
+template <int N>
+void expect_scattered_match_points(const ChebyshevPatch& patch, const Box& box, std::uint64_t seed, std::size_t count) {
+  auto rng = test::make_rng(seed);
+  std::vector<double> var_storage[3], out_storage((N + 1) * count), values(count);
+  std::array<ConstTupleLanes<Tuple<N, 1>>, 3> vars{};
+  const double* coordinates[3] = {};
+  for (int a = 0; a < N; ++a) {
+    var_storage[a].resize((N + 1) * count);
+    const TupleLanes<Tuple<N, 1>> lanes{var_storage[a].data(), count};
+    for (std::size_t p = 0; p < count; ++p) {
+      auto var = Tuple<N, 1>::variable(a, test::uniform(rng, box[a].lo, box[a].hi));
+      var.c[1] += 0.25 * (a + 1);  // a gradient that is not a unit seed
+      lanes.store(p, var);
+    }
+    vars[a] = lanes;
+    coordinates[a] = var_storage[a].data();  // component 0: the values
+  }
+  std::vector<Tuple<N, 1>> expected(count);
+  std::vector<double> expected_values(count);
+  for (std::size_t p = 0; p < count; ++p) {
+    Tuple<N, 1> point[N];
+    double at[N];
+    for (int a = 0; a < N; ++a) point[a] = vars[a].load(p), at[a] = point[a].value();
+    expected[p] = patch.evaluate(point);
+    expected_values[p] = patch.evaluate(at);
+  }
+  const TupleLanes<Tuple<N, 1>> out{out_storage.data(), count};
+  patch.evaluate_points(count, vars.data(), out);
+  patch.evaluate_points(coordinates, count, values.data());
+  for (std::size_t p = 0; p < count; ++p) {
+    const Tuple<N, 1> got = out.load(p);
+    for (int c = 0; c <= N; ++c) ASSERT_EQ(got.c[c], expected[p].c[c]) << "point " << p << " coefficient " << c;
+    ASSERT_EQ(values[p], expected_values[p]) << "point " << p;
+  }
+  // Over the first variable, in doubles and in tuples.
+  std::vector<double> x(coordinates[0], coordinates[0] + count);
+  const double* over_x[3] = {x.data(), coordinates[1], coordinates[2]};
+  patch.evaluate_points(over_x, count, x.data());
+  EXPECT_EQ(x, expected_values);
+  patch.evaluate_points(count, vars.data(), TupleLanes<Tuple<N, 1>>{var_storage[0].data(), count});
+  for (std::size_t p = 0; p < count; ++p)
+    for (int c = 0; c <= N; ++c) ASSERT_EQ(vars[0].load(p).c[c], expected[p].c[c]) << "point " << p;
+}
+
+TEST(ChebyshevPatch, ScatteredPointsMatchPointByPoint) {
+  for (int dimension = 1; dimension <= 3; ++dimension) {
+    const Box box = test_box(dimension);
+    const auto patch = fit_smooth(box, dimension);
+    ASSERT_TRUE(patch);
+    for (std::size_t count : {std::size_t{1}, std::size_t{7}, std::size_t{130}}) {
+      SCOPED_TRACE(count);
+      if (dimension == 1) expect_scattered_match_points<1>(*patch, box, 31, count);
+      if (dimension == 2) expect_scattered_match_points<2>(*patch, box, 32, count);
+      if (dimension == 3) expect_scattered_match_points<3>(*patch, box, 33, count);
     }
   }
 }

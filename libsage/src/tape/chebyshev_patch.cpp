@@ -451,6 +451,96 @@ SAGE_VECTOR_CLONES void ChebyshevPatch::rows_into(const double* xs, std::size_t 
   }
 }
 
+template <class T, class Vars, class Out>
+SAGE_VECTOR_CLONES void ChebyshevPatch::points_into(const double* const* coordinates, std::size_t count, Vars vars,
+                                                    Out out) const {
+  constexpr bool kGradient = !std::is_same_v<T, double>;
+  const int d = degree_;
+  double t0[kMaxDegree + 1][kLanes], dt0[kMaxDegree + 1][kLanes];
+  double sum[kLanes], partial[3][kLanes];
+  RowFactorLanes f;
+  std::array<double, 2> rows[kLanes];
+  // evaluate_first_order()'s sums over the x degrees, in its order, a lane
+  // per point, with the partials along `axes` axes; kBlock lanes at a time
+  // so that the sums stay in registers.
+  auto sum_lanes = [&]<int axes>(std::size_t n) {
+    for (std::size_t first = 0; first < n; first += kBlock) {
+      double s[kBlock] = {}, a[kBlock] = {}, b[kBlock] = {}, c[kBlock] = {};
+      for (int i = 0; i <= d; ++i)
+        for (std::size_t q = 0; q < kBlock; ++q) {
+          const std::size_t l = first + q;
+          s[q] = s[q] + f.e[i][l] * t0[i][l];
+          if constexpr (axes >= 1) a[q] += f.e[i][l] * dt0[i][l];
+          if constexpr (axes >= 2) b[q] += f.ev[i][l] * t0[i][l];
+          if constexpr (axes >= 3) c[q] += f.ew[i][l] * t0[i][l];
+        }
+      for (std::size_t q = 0; q < kBlock; ++q)
+        sum[first + q] = s[q], partial[0][first + q] = a[q], partial[1][first + q] = b[q], partial[2][first + q] = c[q];
+    }
+  };
+  for (std::size_t first = 0; first < count; first += kLanes) {
+    const std::size_t n = std::min(kLanes, count - first);
+    // Each point is its own row: row_factors() of its y (and z), a lane
+    // each; lanes past n, up to a whole block, at the centre (computed,
+    // never stored).
+    const std::size_t padded = (n + kBlock - 1) / kBlock * kBlock;
+    double u[kLanes];
+    for (std::size_t l = 0; l < padded; ++l) {
+      const bool real = l < n;
+      rows[l] = {dimension_ > 1 && real ? coordinates[1][first + l] : centre_[1],
+                 dimension_ > 2 && real ? coordinates[2][first + l] : centre_[2]};
+      u[l] = real ? (coordinates[0][first + l] - centre_[0]) * inverse_half_[0] : 0.0;
+    }
+    row_factor_lanes(rows, padded, f);
+    basis_lanes(u, padded, d, t0, dt0);
+    if (!kGradient)
+      sum_lanes.template operator()<0>(padded);
+    else if (dimension_ == 1)
+      sum_lanes.template operator()<1>(padded);
+    else if (dimension_ == 2)
+      sum_lanes.template operator()<2>(padded);
+    else
+      sum_lanes.template operator()<3>(padded);
+    if constexpr (kGradient) {
+      // chain_rule(): each gradient component is 0 + the sum over the axes
+      // of partial * inverse_half * the variable's component, then the
+      // value. Each lane reads its variables before it writes.
+      for (int q = 1; q < T::size; ++q) {
+        double* o = out.component(q) + first;
+        for (std::size_t l = 0; l < n; ++l) {
+          double acc = 0.0;
+          for (int a = 0; a < dimension_; ++a)
+            acc += partial[a][l] * inverse_half_[a] * vars[a].component(q)[first + l];
+          o[l] = acc;
+        }
+      }
+      double* o = out.component(0) + first;
+      for (std::size_t l = 0; l < n; ++l) o[l] = sum[l];
+    } else {
+      for (std::size_t l = 0; l < n; ++l) out[first + l] = sum[l];
+    }
+  }
+}
+
+void ChebyshevPatch::evaluate_points(const double* const* coordinates, std::size_t count, double* out) const {
+  points_into<double>(coordinates, count, nullptr, out);
+}
+
+template <int N>
+void ChebyshevPatch::evaluate_points(std::size_t count, const ConstTupleLanes<Tuple<N, 1>>* vars,
+                                     TupleLanes<Tuple<N, 1>> out) const {
+  const double* coordinates[3] = {vars[0].component(0), vars[std::min(1, N - 1)].component(0),
+                                  vars[std::min(2, N - 1)].component(0)};
+  points_into<Tuple<N, 1>>(coordinates, count, vars, out);
+}
+
+template void ChebyshevPatch::evaluate_points(std::size_t, const ConstTupleLanes<Tuple<1, 1>>*,
+                                              TupleLanes<Tuple<1, 1>>) const;
+template void ChebyshevPatch::evaluate_points(std::size_t, const ConstTupleLanes<Tuple<2, 1>>*,
+                                              TupleLanes<Tuple<2, 1>>) const;
+template void ChebyshevPatch::evaluate_points(std::size_t, const ConstTupleLanes<Tuple<3, 1>>*,
+                                              TupleLanes<Tuple<3, 1>>) const;
+
 template Tuple<1, 1> ChebyshevPatch::evaluate_first_order(const Tuple<1, 1>*) const;
 template Tuple<2, 1> ChebyshevPatch::evaluate_first_order(const Tuple<2, 1>*) const;
 template Tuple<3, 1> ChebyshevPatch::evaluate_first_order(const Tuple<3, 1>*) const;

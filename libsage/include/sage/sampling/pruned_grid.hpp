@@ -97,6 +97,19 @@ inline TapeSpecializer& thread_specializer(const Tape& tape) {
   return *specializer;
 }
 
+/// This thread's batch evaluator, rebound to `tape` and `width` lanes: a
+/// leaf uses it for all its points (leaves spawn no tasks, so nothing else
+/// on the thread uses it meanwhile).
+template <class T>
+BatchEvaluator<T>& thread_batch(const Tape& tape, std::size_t width) {
+  thread_local std::unique_ptr<BatchEvaluator<T>> batch;
+  if (batch)
+    batch->rebind(tape, width);
+  else
+    batch = std::make_unique<BatchEvaluator<T>>(tape, width);
+  return *batch;
+}
+
 /// Whether a block gets far-field patches (and so specializes alone).
 inline bool patches(const GridBlock& block, const BlockPlan& plan) {
   return plan.approximation && block.size() >= plan.patch_points;
@@ -181,13 +194,7 @@ void visit_block(const Tape& tape, const Grid& grid, const GridBlock& block, Vis
   // The block's points, a few grid rows per batch run by this thread's
   // BatchEvaluator (leaves spawn no tasks, so nothing else uses it
   // meanwhile): rows, so that patches sum their y and z factors once per row.
-  thread_local std::unique_ptr<BatchEvaluator<T>> reused;
-  const std::size_t width = std::min(block.size(), kBatchPoints);
-  if (reused)
-    reused->rebind(tape, width);
-  else
-    reused = std::make_unique<BatchEvaluator<T>>(tape, width);
-  BatchEvaluator<T>& batch = *reused;
+  BatchEvaluator<T>& batch = thread_batch<T>(tape, std::min(block.size(), kBatchPoints));
   batch.set_far_faces(plan.far_faces);
   const std::size_t nx_grid = static_cast<std::size_t>(grid.points[0]),
                     ny_grid = static_cast<std::size_t>(grid.points[1]);

@@ -193,14 +193,26 @@ class BatchEvaluator {
           std::visit([&](const auto& fused) { run_fused(fused, count); }, fused_[steps_[i].fused - 1]);
           continue;
         }
-        if (ins.op == Op::Patch && layout) {
+        if (ins.op == Op::Patch) {
+          // A grid's rows, or scattered points a lane each (the variables' values).
+          const int dimension = tape_->dimension();
           if constexpr (std::is_same_v<T, double>) {
-            ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, component(ins.out));
+            if (layout) {
+              ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, component(ins.out));
+            } else {
+              const double* coordinates[3] = {component(0),
+                                              component(static_cast<std::uint32_t>(std::min(1, dimension - 1))),
+                                              component(static_cast<std::uint32_t>(std::min(2, dimension - 1)))};
+              ins.patch->evaluate_points(coordinates, count, component(ins.out));
+            }
           } else {
             std::array<ConstTupleLanes<T>, 3> vars{};
-            for (int v = 0; v < tape_->dimension(); ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
-            ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, vars.data(),
-                                     lanes_of(ins.out));
+            for (int v = 0; v < dimension; ++v) vars[v] = lanes_of(static_cast<std::uint32_t>(v));
+            if (layout)
+              ins.patch->evaluate_rows(layout->xs, layout->nx, layout->rows, layout->row_count, vars.data(),
+                                       lanes_of(ins.out));
+            else
+              ins.patch->evaluate_points(count, vars.data(), lanes_of(ins.out));
           }
           continue;
         }
