@@ -144,9 +144,8 @@ Grid grid_for(const geometry::Model& model, const std::optional<std::string>& re
   Grid grid;
   grid.dimension = model.dimension;
   try {
-    grid.points = resolution
-                      ? Grid::parse_resolution(*resolution, model.dimension)
-                      : (model.dimension == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64});
+    grid.points =
+        resolution ? Grid::parse_resolution(*resolution, model.dimension) : Grid::default_points(model.dimension);
     if (bounds) {
       Grid::parse_bounds(*bounds, model.dimension, grid.lo, grid.hi);
     } else if (model.bounds) {

@@ -110,20 +110,8 @@ Grid grid_of(const PyModel& self, const std::optional<std::vector<int>>& counts,
                           (d == 3 ? ", zmin, zmax)" : ")"));
   }
   if (counts && resolution) throw py::value_error("give grid or resolution, not both");
-  grid.points = d == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64};
-  if (counts) {
-    if (static_cast<int>(counts->size()) != d)
-      throw py::value_error("grid: expected " + std::to_string(d) + " point counts");
-    double total = 1.0;
-    for (int a = 0; a < d; ++a) {
-      if ((*counts)[a] < 2 || (*counts)[a] > 100000) throw py::value_error("grid: each count must be from 2 to 100000");
-      grid.points[a] = (*counts)[a];
-      total *= (*counts)[a];
-    }
-    if (total > static_cast<double>(kMaxGridPoints))
-      throw py::value_error("grid: more points than the limit of " + std::to_string(kMaxGridPoints));
-  }
-  if (resolution) grid.space_points(*resolution);
+  grid.points = counts ? Grid::checked_points({counts->begin(), counts->end()}, d, "grid") : Grid::default_points(d);
+  if (resolution) grid.space_points(*resolution);  // std::invalid_argument: ValueError
   if (d == 2) grid.lo[2] = grid.hi[2] = 0.0;
   return grid;
 }

@@ -172,18 +172,10 @@ Places grid_places(const solver::ProblemDomain& domain, const std::optional<std:
     grid.lo[a] = domain.min[a];
     grid.hi[a] = domain.max[a];
   }
-  if (counts) {
-    if (static_cast<int>(counts->size()) != d)
-      throw py::value_error("grid: expected " + std::to_string(d) + " point counts");
-    for (int a = 0; a < d; ++a) {
-      if ((*counts)[a] < 2 || (*counts)[a] > 100000) throw py::value_error("grid: each count must be from 2 to 100000");
-      grid.points[a] = (*counts)[a];
-    }
-  } else {
+  if (counts)
+    grid.points = Grid::checked_points({counts->begin(), counts->end()}, d, "grid");  // std::invalid_argument: ValueError
+  else
     grid.space_points(*resolution);
-  }
-  if (static_cast<double>(grid.size()) > static_cast<double>(kMaxGridPoints))
-    throw py::value_error("grid: more points than the limit of " + std::to_string(kMaxGridPoints));
   Places at;
   at.grid = true;
   for (int a = d - 1; a >= 0; --a) at.shape.push_back(grid.points[a]);

@@ -33,24 +33,36 @@ double parse_number(const std::string& s, const std::string& what) {
 }
 }  // namespace
 
+std::array<int, 3> Grid::default_points(int dimension) {
+  return dimension == 2 ? std::array<int, 3>{200, 200, 1} : std::array<int, 3>{64, 64, 64};
+}
+
+std::array<int, 3> Grid::checked_points(const std::vector<double>& counts, int dimension, const std::string& what) {
+  if (static_cast<int>(counts.size()) != dimension)
+    throw std::invalid_argument(what + ": expected " + std::to_string(dimension) + " point counts");
+  std::array<int, 3> n{1, 1, 1};
+  for (int i = 0; i < dimension; ++i) {
+    const double v = counts[static_cast<std::size_t>(i)];
+    if (v != std::floor(v) || v < 2 || v > 100000)
+      throw std::invalid_argument(what + ": each count must be an integer from 2 to 100000");
+    n[i] = static_cast<int>(v);
+  }
+  const double total = static_cast<double>(n[0]) * n[1] * n[2];
+  if (total > kMaxGridPoints)
+    throw std::invalid_argument(what + ": " + std::to_string(static_cast<long long>(total)) +
+                                " points is more than the limit of " + std::to_string(kMaxGridPoints));
+  return n;
+}
+
 std::array<int, 3> Grid::parse_resolution(const std::string& text, int dimension) {
   const auto parts = split(text, 'x');
   if (static_cast<int>(parts.size()) != dimension)
     throw std::invalid_argument("grid '" + text + "': expected " +
                                 (dimension == 2 ? "NXxNY (e.g. 200x200)" : "NXxNYxNZ (e.g. 64x64x64)") + " for a " +
                                 std::to_string(dimension) + "D model");
-  std::array<int, 3> n{1, 1, 1};
-  for (int i = 0; i < dimension; ++i) {
-    const double v = parse_number(parts[i], "grid");
-    if (v != std::floor(v) || v < 2 || v > 100000)
-      throw std::invalid_argument("grid '" + text + "': each count must be an integer from 2 to 100000");
-    n[i] = static_cast<int>(v);
-  }
-  const double total = static_cast<double>(n[0]) * n[1] * n[2];
-  if (total > kMaxGridPoints)
-    throw std::invalid_argument("grid '" + text + "': " + std::to_string(static_cast<long long>(total)) +
-                                " points is more than the limit of " + std::to_string(kMaxGridPoints));
-  return n;
+  std::vector<double> counts;
+  for (const std::string& part : parts) counts.push_back(parse_number(part, "grid"));
+  return checked_points(counts, dimension, "grid '" + text + "'");
 }
 
 void Grid::space_points(double spacing) {

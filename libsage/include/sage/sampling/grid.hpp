@@ -16,6 +16,7 @@
 #include <cmath>
 #include <functional>
 #include <string>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -69,6 +70,12 @@ struct Grid {
     return box;
   }
 
+  /// The points per axis when none are given: 200 x 200 (2D), 64^3 (3D).
+  static std::array<int, 3> default_points(int dimension);
+  /// Point counts per axis as given (`dimension` of them), checked: whole
+  /// numbers from 2 to 100000, at most kMaxGridPoints in all. Throws
+  /// std::invalid_argument starting with `what` ("grid '64x64'", "grid").
+  static std::array<int, 3> checked_points(const std::vector<double>& counts, int dimension, const std::string& what);
   /// Parses "200x200" (2D) or "64x64x64" (3D); throws std::invalid_argument.
   static std::array<int, 3> parse_resolution(const std::string& text, int dimension);
   /// Points `spacing` apart from lo on, up to the first at or past hi (hi
