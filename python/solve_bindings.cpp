@@ -172,8 +172,9 @@ Places grid_places(const solver::ProblemDomain& domain, const std::optional<std:
     grid.lo[a] = domain.min[a];
     grid.hi[a] = domain.max[a];
   }
+  // Bad counts or spacings throw std::invalid_argument: ValueError in Python.
   if (counts)
-    grid.points = Grid::checked_points({counts->begin(), counts->end()}, d, "grid");  // std::invalid_argument: ValueError
+    grid.points = Grid::checked_points({counts->begin(), counts->end()}, d, "grid");
   else
     grid.space_points(*resolution);
   Places at;
