@@ -67,9 +67,7 @@ int run_field(const std::vector<std::string>& args) {
   if (vm.count("compression")) job.compression = compression;
   if (vm.count("bounds")) job.bounds = bounds;
   if (vm.count("rfunction")) job.rfunction = rfunction;
-  if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
-  if (vm.count("tolerance")) job.tolerance = tolerance;
-  if (vm.count("exact")) job.tolerance = 0.0;
+  job.tolerance = chosen_tolerance(vm, tolerance);
   const bool quiet = vm.count("quiet") > 0;
   job.show_progress = !quiet;
 

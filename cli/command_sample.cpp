@@ -93,6 +93,7 @@ int run_sample(const std::vector<std::string>& args) {
   finish_source_options(vm, load, source_text);
   if (order < 0 || order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
+  const std::optional<double> chosen = chosen_tolerance(vm, tolerance);
   output::PointLayerOptions point_options;
   if (vm.count("points-crs")) point_options.crs = points_crs;
   if (vm.count("points-layer")) point_options.layer = points_layer;
@@ -103,12 +104,6 @@ int run_sample(const std::vector<std::string>& args) {
   for (const std::string& warning : layer.warnings) std::cerr << "warning: " << warning << "\n";
   if (model.dimension == 3 && !layer.has_z)
     throw std::runtime_error(points_path + ": the model is 3D, and not every point has a z coordinate");
-  if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
-  if (vm.count("tolerance") && !(tolerance >= 0 && tolerance < 1e-2))
-    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
-  std::optional<double> chosen;
-  if (vm.count("tolerance")) chosen = tolerance;
-  if (vm.count("exact")) chosen = 0.0;
   const Tape tape(model.field, model.dimension);
   const SamplingPlan plan = plan_points(tape, layer.points, order, chosen);
   const FieldSamples samples = sample_points(tape, layer.points, order, &plan.approximation);

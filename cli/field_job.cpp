@@ -132,6 +132,15 @@ bool parse_model_command(const std::vector<std::string>& args,
   return true;
 }
 
+std::optional<double> chosen_tolerance(const boost::program_options::variables_map& vm, double tolerance) {
+  if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
+  if (vm.count("exact")) return 0.0;
+  if (!vm.count("tolerance")) return std::nullopt;
+  if (!(tolerance >= 0 && tolerance < 1e-2))
+    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+  return tolerance;
+}
+
 void finish_source_options(const boost::program_options::variables_map& vm, geometry::LoadOptions& options,
                            const SourceOptionText& text) {
   if (vm.count("where")) options.where = text.where;

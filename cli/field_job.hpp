@@ -62,6 +62,10 @@ void add_source_options(boost::program_options::options_description& description
 /// Parses a command line of the form MODEL [options] (with `points_path`:
 /// MODEL POINTS [options]): stores the paths, prints `options` and returns
 /// false for --help, else notifies.
+/// --tolerance T or --exact (as --tolerance 0), checked: a usage error for
+/// both or for T outside [0, 1e-2); unset when neither is given (sage's default).
+std::optional<double> chosen_tolerance(const boost::program_options::variables_map& vm, double tolerance);
+
 bool parse_model_command(const std::vector<std::string>& args,
                          const boost::program_options::options_description& options, std::string& model_path,
                          boost::program_options::variables_map& vm, std::string* points_path = nullptr);
