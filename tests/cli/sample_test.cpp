@@ -194,6 +194,11 @@ TEST(CliSample, BadPointFilesAreNamed) {
   const Result crs = run("sample " + model + " " + points + " -o " + out.string() + " --points-crs EPSG:999999");
   EXPECT_EQ(crs.exit_code, 1) << crs.output;
   EXPECT_NE(crs.output.find("--points-crs EPSG:999999: PROJ does not know"), std::string::npos) << crs.output;
+  for (const char* misuse : {" --exact --tolerance 1e-8", " --tolerance 0.5"}) {
+    const Result usage = run("sample " + model + " " + points + " -o " + out.string() + misuse);
+    EXPECT_EQ(usage.exit_code, 2) << misuse << "\n" << usage.output;
+    EXPECT_NE(usage.output.find("--tolerance"), std::string::npos) << usage.output;
+  }
   const Result itself = run("sample " + model + " " + points + " -o " + points);
   EXPECT_EQ(itself.exit_code, 1) << itself.output;
   EXPECT_NE(itself.output.find("is the points file itself"), std::string::npos) << itself.output;
