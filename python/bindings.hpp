@@ -4,6 +4,7 @@
 // and the numpy conversions they share.
 
 #include <sage/geometry/model.hpp>
+#include <sage/sampling/grid.hpp>
 #include <sage/tape/tape.hpp>
 
 #include <pybind11/numpy.h>
@@ -46,5 +47,11 @@ std::vector<std::array<double, 3>> points_of(const py::array_t<double, py::array
 
 /// A new float64 array of `shape`, filled from values (C order).
 py::array_t<double> array_of(const std::vector<py::ssize_t>& shape, const double* values);
+
+/// The numpy shape of a grid's points, x fastest: (ny, nx) or (nz, ny, nx).
+std::vector<py::ssize_t> grid_shape(const Grid& grid);
+
+/// The grid's axes as arrays 'x', 'y' ('z') in `out`.
+void add_axes(py::dict& out, const Grid& grid);
 
 }  // namespace sage::python

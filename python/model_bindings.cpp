@@ -128,14 +128,8 @@ py::dict sample(const PyModel& self, const std::optional<std::vector<int>>& coun
     py::gil_scoped_release unlocked;
     s = sample_field(*self.tape, grid, order, {}, &plan.approximation);
   }
-  std::vector<py::ssize_t> shape;
-  for (int a = d - 1; a >= 0; --a) shape.push_back(grid.points[a]);  // (ny, nx) or (nz, ny, nx): x fastest
-  py::dict out = dict_of(s, d, shape);
-  for (int a = 0; a < d; ++a) {
-    std::vector<double> axis(static_cast<std::size_t>(grid.points[a]));
-    for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = grid.lo[a] + static_cast<double>(i) * grid.spacing(a);
-    out[py::str(std::string(1, "xyz"[a]))] = array_of({grid.points[a]}, axis.data());
-  }
+  py::dict out = dict_of(s, d, grid_shape(grid));
+  add_axes(out, grid);
   if (d == 2) {
     const double dx = grid.spacing(0), dy = grid.spacing(1);
     out["geotransform"] = py::make_tuple(grid.lo[0] - 0.5 * dx, dx, 0.0, grid.lo[1] - 0.5 * dy, 0.0, dy);

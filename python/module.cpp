@@ -37,6 +37,20 @@ py::array_t<double> array_of(const std::vector<py::ssize_t>& shape, const double
   return a;
 }
 
+std::vector<py::ssize_t> grid_shape(const Grid& grid) {
+  std::vector<py::ssize_t> shape;
+  for (int a = grid.dimension - 1; a >= 0; --a) shape.push_back(grid.points[a]);
+  return shape;
+}
+
+void add_axes(py::dict& out, const Grid& grid) {
+  for (int a = 0; a < grid.dimension; ++a) {
+    std::vector<double> axis(static_cast<std::size_t>(grid.points[a]));
+    for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = grid.lo[a] + static_cast<double>(i) * grid.spacing(a);
+    out[py::str(std::string(1, "xyz"[a]))] = array_of({grid.points[a]}, axis.data());
+  }
+}
+
 }  // namespace sage::python
 
 PYBIND11_MODULE(sage, m) {

@@ -179,14 +179,10 @@ Places grid_places(const solver::ProblemDomain& domain, const std::optional<std:
     grid.space_points(*resolution);
   Places at;
   at.grid = true;
-  for (int a = d - 1; a >= 0; --a) at.shape.push_back(grid.points[a]);
+  at.shape = grid_shape(grid);
   at.points.resize(grid.size());
   for (std::size_t p = 0; p < grid.size(); ++p) at.points[p] = grid.point(p);
-  for (int a = 0; a < d; ++a) {
-    std::vector<double> axis(static_cast<std::size_t>(grid.points[a]));
-    for (std::size_t i = 0; i < axis.size(); ++i) axis[i] = grid.lo[a] + static_cast<double>(i) * grid.spacing(a);
-    axes[py::str(std::string(1, "xyz"[a]))] = array_of({grid.points[a]}, axis.data());
-  }
+  add_axes(axes, grid);
   return at;
 }
 
@@ -205,12 +201,24 @@ std::string problem_file_of(const py::dict& problem) {
   return path.string();
 }
 
-/// The message of `e` naming "the problem dict" in place of its temporary file.
-std::string renamed(const std::exception& e, const std::string& path) {
+/// A problem dict's temporary file, removed however the solve ends.
+struct TemporaryFile {
+  std::string path;  // empty: none
+  ~TemporaryFile() {
+    std::error_code ignored;
+    if (!path.empty()) std::filesystem::remove(path, ignored);
+  }
+};
+
+/// Inside a handler of `e`: rethrows it, for a dict as the same error
+/// naming "the problem dict" in place of its temporary file.
+template <class Error>
+[[noreturn]] void rethrow_naming_the_dict(const Error& e, const TemporaryFile& temporary) {
+  if (temporary.path.empty()) throw;
   std::string message = e.what();
-  for (auto at = message.find(path); at != std::string::npos; at = message.find(path))
-    message.replace(at, path.size(), "the problem dict");
-  return message;
+  for (auto at = message.find(temporary.path); at != std::string::npos; at = message.find(temporary.path))
+    message.replace(at, temporary.path.size(), "the problem dict");
+  throw Error(message);
 }
 
 py::dict solve(const py::object& problem,
@@ -222,22 +230,17 @@ py::dict solve(const py::object& problem,
   const bool from_dict = py::isinstance<py::dict>(problem);
   const std::string path = from_dict ? problem_file_of(problem.cast<py::dict>()) : problem.cast<std::string>();
   std::optional<problems::ProblemFile> file;
-  try {
-    py::gil_scoped_release unlocked;
-    file = problems::read_problem_file(path);
-  } catch (const problems::ProblemError& e) {
-    if (!from_dict) throw;
-    std::filesystem::remove(path);
-    throw problems::ProblemError(renamed(e, path));
-  } catch (const geometry::ModelError& e) {
-    if (!from_dict) throw;
-    std::filesystem::remove(path);
-    throw geometry::ModelError(renamed(e, path));
-  } catch (...) {
-    if (from_dict) std::filesystem::remove(path);
-    throw;
+  {
+    const TemporaryFile temporary{from_dict ? path : std::string()};
+    try {
+      py::gil_scoped_release unlocked;
+      file = problems::read_problem_file(path);
+    } catch (const problems::ProblemError& e) {
+      rethrow_naming_the_dict(e, temporary);
+    } catch (const geometry::ModelError& e) {
+      rethrow_naming_the_dict(e, temporary);
+    }
   }
-  if (from_dict) std::filesystem::remove(path);
   const int d = file->domain().dimension;
   const solver::SolverOptions options = options_for(*file, degree, cells, h, kind);
   py::dict axes;
