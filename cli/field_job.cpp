@@ -132,12 +132,19 @@ bool parse_model_command(const std::vector<std::string>& args,
   return true;
 }
 
+namespace {
+/// A far-field tolerance users may ask for: from 0 (exact) to below 1e-2 of the diagonal.
+void check_tolerance(double tolerance) {
+  if (!(tolerance >= 0 && tolerance < 1e-2))
+    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+}
+}  // namespace
+
 std::optional<double> chosen_tolerance(const boost::program_options::variables_map& vm, double tolerance) {
   if (vm.count("exact") && vm.count("tolerance")) throw UsageError{"give --exact or --tolerance, not both"};
   if (vm.count("exact")) return 0.0;
   if (!vm.count("tolerance")) return std::nullopt;
-  if (!(tolerance >= 0 && tolerance < 1e-2))
-    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+  check_tolerance(tolerance);
   return tolerance;
 }
 
@@ -187,8 +194,7 @@ FieldReport run_field_job(const FieldJob& job) {
   const output::GeoTiffOptions tiff_options{"", job.float64, warp_target(job, geotiff), compression_of(job, geotiff)};
   if (job.order < 0 || job.order > kMaxSampleOrder)
     throw UsageError{"--order must be from 0 to " + std::to_string(kMaxSampleOrder)};
-  if (job.tolerance && !(*job.tolerance >= 0 && *job.tolerance < 1e-2))
-    throw UsageError{"--tolerance must be from 0 (exact, as --exact) to below 1e-2 of the diagonal"};
+  if (job.tolerance) check_tolerance(*job.tolerance);
   output::check_writable(job.output_path);  // before the work, not after it
   const geometry::Model model = load_model(job.model_path, job.rfunction, job.load);
   if (geotiff && model.dimension != 2)
