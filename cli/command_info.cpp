@@ -3,6 +3,8 @@
 #include "commands.hpp"
 #include "field_job.hpp"
 
+#include <sage/geometry/cad_model.hpp>
+
 #include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/evaluator.hpp>
 #include <sage/tape/tape.hpp>
@@ -40,6 +42,12 @@ int run_info(const std::vector<std::string>& args) {
   for (const auto& p : model.primitives)
     std::cout << "  " << p.type << (p.name.empty() ? "" : " \"" + p.name + "\"") << " at " << p.pointer << "\n";
   for (const auto& note : model.notes) std::cout << "note:        " << note << "\n";
+  if (!model.faces.empty()) {
+    std::cout << "faces:       " << model.faces.size() << " (number, surface, parameters, area, centroid; in "
+              << model.unit << "): a problem file names them as parts, \"face:N\" or \"faces\"\n";
+    for (std::size_t f = 1; f <= model.faces.size(); ++f)
+      std::cout << "  " << geometry::describe_face(model, f) << "\n";
+  }
   std::cout << "expression:  " << model.field.node_count() << " nodes, tape of " << tape.code().size()
             << " instructions over " << tape.register_count() << " registers\n";
   if (model.bounds) {

@@ -109,6 +109,9 @@ void add_source_options(boost::program_options::options_description& description
       "in place of the file's own or for files without one");
   add("repair", po::bool_switch(&options.repair), "fix invalid geometry (GEOS MakeValid, in the projected plane)");
   add("orthogonalize", po::bool_switch(&options.orthogonalize), "B-rep: orthogonalize trimming at corners");
+  add("solid", po::value(&text.solid), "CAD: the solid to use, numbered from 1 (default: all, united)");
+  add("deflection", po::value(&text.deflection),
+      "CAD: the tessellation's chordal deflection, in the file's unit\n(default: 1e-3 of the bounding box's diagonal)");
 }
 
 bool parse_model_command(const std::vector<std::string>& args,
@@ -153,6 +156,15 @@ void finish_source_options(const boost::program_options::variables_map& vm, geom
   if (vm.count("where")) options.where = text.where;
   if (vm.count("layer")) options.layer = text.layer;
   if (vm.count("crs")) options.crs = text.crs;
+  if (vm.count("solid")) {
+    if (text.solid < 1) throw UsageError{"--solid numbers solids from 1"};
+    options.solid = text.solid;
+  }
+  if (vm.count("deflection")) {
+    if (!(text.deflection > 0 && std::isfinite(text.deflection)))
+      throw UsageError{"--deflection must be a positive length"};
+    options.deflection = text.deflection;
+  }
 }
 
 Grid grid_for(const geometry::Model& model, const std::optional<std::string>& resolution,

@@ -56,6 +56,8 @@ geometry::Model load_model(const std::string& path, const std::optional<std::str
 /// writing into `options`; call finish_source_options after parsing.
 struct SourceOptionText {
   std::string where, layer, crs;  // parsed as text, moved into LoadOptions when given
+  int solid = 0;
+  double deflection = 0;
 };
 void add_source_options(boost::program_options::options_description& description, geometry::LoadOptions& options,
                         SourceOptionText& text);

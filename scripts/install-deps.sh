@@ -12,6 +12,9 @@ packages=(
   nlohmann-json3-dev         # JSON model files
   libcgal-dev libgmp-dev libmpfr-dev  # exact geometry
   libgdal-dev                # GIS readers
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+  libocct-data-exchange-dev  # CAD files (STEP, IGES, BREP) with OpenCASCADE
+  libocct-ocaf-dev libocct-visualization-dev libtbb-dev  # what OCCT's CMake configuration loads
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev           # bench/
   clang-format               # format check in CI

@@ -99,6 +99,7 @@ struct Soup {
   std::vector<Triangle> triangles;
   std::vector<std::size_t> origin;
   std::size_t file_faces = 0;
+  std::size_t first_face = 0;  // the number of the file's first face (CAD files count from 1)
   std::vector<std::string> notes;
 
   /// "face 12" or "face 12 (triangle 3 of its triangulation)".
@@ -112,6 +113,11 @@ struct Soup {
 /// the file (unreadable, malformed, empty, a bad index or coordinate, a
 /// polygon that is not planar or cannot be triangulated).
 Soup read_mesh_soup(const std::string& path, bool repair);
+
+/// The model of a soup: validation (validate_mesh), then the field by
+/// options.method as load_mesh describes (mesh_model.cpp). CAD solids come
+/// here as their tessellation (cad_model.cpp).
+Model model_from_soup(Soup soup, const LoadOptions& options);
 
 /// What validation found (beyond the faults, which throw).
 struct Validated {

@@ -102,9 +102,19 @@ SignCheck check_signs(const Expr& field, const PointClassifier& xi, const mesh::
 }  // namespace
 
 Model load_mesh(const std::string& path, const LoadOptions& options) {
+  check_mesh_method(path, options);
+  return mesh::model_from_soup(mesh::read_mesh_soup(path, options.repair), options);
+}
+
+void check_mesh_method(const std::string& path, const LoadOptions& options) {
   if (options.method != "csg" && options.method != "brep")
     throw ModelError(path + ": unknown method '" + options.method + "' for a mesh (expected csg or brep)");
-  mesh::Soup soup = mesh::read_mesh_soup(path, options.repair);
+}
+
+namespace mesh {
+
+Model model_from_soup(Soup soup, const LoadOptions& options) {
+  const std::string& path = soup.path;
   mesh::Validated valid = mesh::validate_mesh(soup, options.repair);
 
   Model model;
@@ -246,9 +256,11 @@ Model load_mesh(const std::string& path, const LoadOptions& options) {
       " of the edge planes)), xi exact point membership (CGAL)");
   model.primitives.push_back({"", "faces",
                               std::to_string(soup.triangles.size()) + " triangles from " +
-                                  std::to_string(soup.file_faces) + " faces (0.." +
-                                  std::to_string(soup.file_faces - 1) + ")"});
+                                  std::to_string(soup.file_faces) + " faces (" + std::to_string(soup.first_face) +
+                                  ".." + std::to_string(soup.first_face + soup.file_faces - 1) + ")"});
   return model;
 }
+
+}  // namespace mesh
 
 }  // namespace sage::geometry

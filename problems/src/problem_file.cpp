@@ -1,6 +1,7 @@
 #include <sage/problems/problem_file.hpp>
 
 #include <sage/expression/formula.hpp>
+#include <sage/geometry/cad_model.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/geometry/json_fields.hpp>
 
@@ -18,7 +19,8 @@ using geometry::Json;
 
 class Reader : geometry::JsonFields<ProblemError> {
  public:
-  Reader(std::string path, ProblemFile& out) : JsonFields<ProblemError>(path), path_(std::move(path)), out_(out) {}
+  Reader(std::string path, ProblemFile& out, geometry::LoadOptions domain_options)
+      : JsonFields<ProblemError>(path), path_(std::move(path)), out_(out), domain_options_(std::move(domain_options)) {}
 
   void read(const Json& top) {
     if (!top.is_object()) fail("", "a problem file is a JSON object");
@@ -31,15 +33,23 @@ class Reader : geometry::JsonFields<ProblemError> {
     }
     if (physics == "elasticity") {
       allow_keys(top, "",
-                 {"name", "description", "physics", "domain", "bounds", "E", "nu", "plane", "body_force", "boundary",
-                  "exact"});
+                 {"name", "description", "physics", "domain", "deflection", "bounds", "E", "nu", "plane", "body_force",
+                  "boundary", "exact"});
     } else {
       allow_keys(top, "",
-                 {"name", "description", "physics", "domain", "bounds", "conductivity", "source", "boundary", "exact",
-                  "robin"});
+                 {"name", "description", "physics", "domain", "deflection", "bounds", "conductivity", "source",
+                  "boundary", "exact", "robin"});
     }
     if (!top.contains("domain")) fail("", "missing \"domain\" (an inline CSG model or the path of a model file)");
+    if (top.contains("deflection") && !domain_options_.deflection) {
+      const double deflection = number(top["deflection"], "/deflection");
+      if (!(deflection > 0))
+        fail("/deflection", "expected a positive length (the CAD tessellation's chordal deflection)");
+      domain_options_.deflection = deflection;
+    }
     read_domain(top["domain"]);
+    if (top.contains("deflection") && out_.model.faces.empty())
+      fail("/deflection", "applies to CAD domains (STEP, IGES, BREP files) only");
     domain_.dimension = out_.model.dimension;
     domain_.field = out_.model.field;
     domain_.boundary_mesh = out_.model.surface;
@@ -88,7 +98,7 @@ class Reader : geometry::JsonFields<ProblemError> {
     if (domain.is_string()) {
       std::filesystem::path model_path(domain.get<std::string>());
       if (model_path.is_relative()) model_path = std::filesystem::path(path_).parent_path() / model_path;
-      out_.model = geometry::load_model(model_path.string());
+      out_.model = geometry::load_model(model_path.string(), domain_options_);
     } else if (domain.is_object()) {
       out_.model = geometry::parse_model(domain.dump(), path_ + " (/domain)");
     } else {
@@ -173,7 +183,7 @@ class Reader : geometry::JsonFields<ProblemError> {
 
   solver::ElasticPart read_elastic_part(const Json& c, const std::string& pointer, const std::string& name) const {
     if (!c.is_object()) fail(pointer, "expected an object with \"displacement\", \"traction\" or \"pressure\"");
-    allow_keys(c, pointer, {"displacement", "traction", "pressure", "selector"});
+    allow_keys(c, pointer, {"displacement", "traction", "pressure", "selector", "faces"});
     solver::ElasticPart part;
     part.name = name;
     if (c.contains("displacement")) {
@@ -200,9 +210,53 @@ class Reader : geometry::JsonFields<ProblemError> {
     return part;
   }
 
-  /// A named part's selector: its own "selector" formula, or the model's part of that name.
+  /// The CAD faces a part names: "faces": [3, 4] or "faces": "cylinder
+  /// radius 4" (a query, or a face name from the file), or its own name
+  /// "face:12". Empty when it names none.
+  std::vector<std::size_t> named_faces(const Json& condition, const std::string& pointer,
+                                       const std::string& name) const {
+    const std::string at = pointer + "/faces";
+    try {
+      if (condition.contains("faces")) {
+        const Json& faces = condition["faces"];
+        if (faces.is_string()) return geometry::faces_matching(out_.model, faces.get<std::string>());
+        if (!faces.is_array() || faces.empty())
+          fail(at, "expected face numbers ([3, 4, 9]) or a face query (\"cylinder radius 4\") as sage info lists them");
+        std::vector<std::size_t> out;
+        for (std::size_t i = 0; i < faces.size(); ++i) {
+          if (!faces[i].is_number_integer() || faces[i].get<long long>() < 1)
+            fail(at + "/" + std::to_string(i), "expected a face number (from 1)");
+          out.push_back(faces[i].get<std::size_t>());
+        }
+        return out;
+      }
+      if (name.rfind("face:", 0) == 0) {
+        const std::string number = name.substr(5);
+        if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos)
+          fail(pointer, "\"face:N\" names one face by its number (from 1), as sage info lists it");
+        return {std::stoul(number)};
+      }
+    } catch (const std::invalid_argument& e) {
+      fail(condition.contains("faces") ? at : pointer, e.what());
+    } catch (const std::out_of_range&) {
+      fail(pointer, "face number out of range");
+    }
+    return {};
+  }
+
+  /// A named part's selector: its own "selector" formula, its faces, or the model's part of that name.
   Expr selector(const Json& condition, const std::string& pointer, const std::string& name) const {
+    if (condition.contains("selector") && condition.contains("faces"))
+      fail(pointer, "give \"selector\" or \"faces\", not both");
     if (condition.contains("selector")) return formula(condition["selector"], pointer + "/selector");
+    const std::vector<std::size_t> faces = named_faces(condition, pointer, name);
+    if (!faces.empty()) {
+      try {
+        return geometry::faces_selector(out_.model, faces);
+      } catch (const std::invalid_argument& e) {
+        fail(condition.contains("faces") ? pointer + "/faces" : pointer, e.what());
+      }
+    }
     const auto named = out_.model.named.find(name);
     if (named == out_.model.named.end()) {
       std::string known;
@@ -216,7 +270,7 @@ class Reader : geometry::JsonFields<ProblemError> {
 
   solver::BoundaryPart read_condition(const Json& c, const std::string& pointer, const std::string& name) const {
     if (!c.is_object()) fail(pointer, "expected an object with \"type\"");
-    allow_keys(c, pointer, {"type", "value", "flux", "beta", "selector"});
+    allow_keys(c, pointer, {"type", "value", "flux", "beta", "selector", "faces"});
     if (!c.contains("type") || !c["type"].is_string()) fail(pointer, "missing \"type\": dirichlet, neumann or robin");
     solver::BoundaryPart part;
     part.name = name;
@@ -224,6 +278,7 @@ class Reader : geometry::JsonFields<ProblemError> {
     auto allow_only = [&](std::set<std::string> keys) {
       keys.insert("type");
       keys.insert("selector");
+      keys.insert("faces");
       allow_keys(c, pointer, keys);
     };
     if (type == "dirichlet") {
@@ -253,7 +308,8 @@ class Reader : geometry::JsonFields<ProblemError> {
       const std::string pointer = "/boundary/" + name;
       solver::BoundaryPart part = read_condition(condition, pointer, name);
       if (name == "default") {
-        if (condition.contains("selector")) fail(pointer + "/selector", "the default part takes no selector");
+        if (condition.contains("selector") || condition.contains("faces"))
+          fail(pointer, "the default part takes no selector or faces: it is the boundary no other part claims");
         p.rest = part;
         continue;
       }
@@ -264,12 +320,13 @@ class Reader : geometry::JsonFields<ProblemError> {
 
   std::string path_;
   ProblemFile& out_;
-  solver::ProblemDomain domain_;  // from the model and "bounds", given to the physics
+  geometry::LoadOptions domain_options_;  // for a domain read from a file
+  solver::ProblemDomain domain_;          // from the model and "bounds", given to the physics
 };
 
 }  // namespace
 
-ProblemFile read_problem_file(const std::string& path) {
+ProblemFile read_problem_file(const std::string& path, const geometry::LoadOptions& domain_options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ProblemError(path + ": cannot open the problem file");
   std::ostringstream buffer;
@@ -285,7 +342,7 @@ ProblemFile read_problem_file(const std::string& path) {
     throw ProblemError(path + ": malformed JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
   }
   ProblemFile out;
-  Reader(path, out).read(top);
+  Reader(path, out, domain_options).read(top);
   return out;
 }
 

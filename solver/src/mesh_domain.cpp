@@ -289,7 +289,10 @@ bool MeshDomain::inside_on_line(double x, double y, double z) const {
     // No triangle between z and this cell: the line has the cell's status.
     if (here.empty()) return kinds_[linear] == CellKind::Inside;
     const double lo = grid_.lo[2] + c[2] * h;
-    for (const Crossing& cross : crossings(*surface_, here, x, y, std::max(lo, z), lo + h, 1e-9 * h))
+    // The top cell keeps crossings on its top face: a solid whose top lies
+    // on the grid's would otherwise look open above.
+    const double hi = c[2] + 1 == grid_.cells[2] ? HUGE_VAL : lo + h;
+    for (const Crossing& cross : crossings(*surface_, here, x, y, std::max(lo, z), hi, 1e-9 * h))
       if (cross.z > z) return cross.leaving;
   }
   return false;  // above the grid: outside

@@ -169,6 +169,23 @@ TEST(MeshDomain, TurnedBoxVolumeAndAreaToRoundOff) {
   EXPECT_LE(static_cast<double>(m.cut_points) / static_cast<double>(m.cut), 8.0 * 27);
 }
 
+TEST(MeshDomain, SolidFillingTheGridToItsTop) {
+  // The box is the grid: its top face lies on the grid's top, and the
+  // columns along its vertical edges hold only triangles that touch their
+  // cells. Membership there walks up to the top face, which must count.
+  const auto mesh = box_mesh({1, 1, 0.5}, {0, 0, 0.5}, 0.0);
+  const auto grid = BackgroundGrid<3>::covering({-1, -1, 0}, {1, 1, 1}, 0.1, 2);
+  const MeshDomain domain(mesh, grid);
+  for (const double z : {0.05, 0.55, 0.95}) {
+    EXPECT_TRUE(domain.inside({0.95, 0.95, z})) << z;
+    EXPECT_TRUE(domain.inside({-0.95, 0.05, z})) << z;
+  }
+  EXPECT_FALSE(domain.inside({0.5, 0.5, 1.05}));
+  const Measures m = integrate_mesh(domain, 3);
+  EXPECT_NEAR(static_cast<double>(m.volume), 4.0, 1e-12);
+  EXPECT_NEAR(static_cast<double>(m.area), 16.0, 1e-12);
+}
+
 TEST(MeshDomain, FineSphereMeshVolumeAndArea) {
   // 5,120 facets, a few per cell: their bends are slight, and the cells
   // take lines over unbroken bases. The area is exact (the polygons' own

@@ -13,6 +13,9 @@ namespace sage::geometry {
 /// or "brep"). Throws ModelError naming the file and the face or vertex.
 Model load_mesh(const std::string& path, const LoadOptions& options);
 
+/// Throws ModelError naming the file unless options.method is csg or brep.
+void check_mesh_method(const std::string& path, const LoadOptions& options);
+
 /// True for the extensions load_mesh reads.
 bool is_mesh_path(const std::string& path);
 

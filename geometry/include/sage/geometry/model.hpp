@@ -8,6 +8,7 @@
 #include <sage/scalars/rfunction.hpp>
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -36,6 +37,21 @@ struct PrimitiveInfo {
   std::string pointer;  // where it came from (JSON pointer, ring/vertex, face)
 };
 
+/// A face of a CAD solid, as `sage info` lists it and boundary parts name
+/// it. Lengths are in the model's unit; directions are unit vectors.
+struct ModelFace {
+  std::string surface;  // plane, cylinder, cone, sphere, torus, bspline, bezier, revolution, extrusion, offset, other
+  std::string name;     // the file's name for the face, empty when none
+  double area = 0;
+  std::array<double, 3> centroid{0, 0, 0};
+  std::optional<std::array<double, 3>> normal;  // planes: the outward normal
+  std::optional<std::array<double, 3>> axis;    // cylinders, cones, tori: the axis direction
+  std::optional<std::array<double, 3>> center;  // a point of the axis; spheres and tori: the centre
+  std::optional<double> radius;                 // cylinders, spheres, tori (major); cones: at `center`
+  std::optional<double> minor_radius;           // tori
+  std::optional<double> half_angle;             // cones, in degrees
+};
+
 struct Model {
   std::string source;  // file name, for messages
   std::string name;
@@ -53,6 +69,13 @@ struct Model {
   /// Meshes: the validated, outward-oriented triangles (the solver
   /// integrates cut cells from them instead of from the field).
   std::shared_ptr<const TriangleSurface> surface;
+  /// CAD solids: faces 1..N (faces[i] is face i + 1, numbered as OCCT's
+  /// TopExp::MapShapes and FreeCAD's FaceN), and the face each of the
+  /// surface's triangles belongs to.
+  std::vector<ModelFace> faces;
+  std::vector<std::uint32_t> triangle_faces;
+  /// CAD solids: the length unit of the coordinates ("millimetre", ...).
+  std::string unit;
   /// Facts for `sage info` and the field summary: projection used,
   /// validation findings and repairs, well-formedness certificate, ...
   std::vector<std::string> notes;
@@ -87,11 +110,17 @@ struct LoadOptions {
   /// Meshes (CSG): deepest level of the convex deficiency decomposition
   /// before it is reported as not terminating.
   int csg_depth_limit = 64;
+  /// CAD files: the solid to use (numbered from 1; default: all, united).
+  std::optional<int> solid;
+  /// CAD files: the tessellation's chordal deflection, in the model's unit
+  /// (default: 1e-3 of the bounding box's diagonal).
+  std::optional<double> deflection;
 };
 
 /// Reads any geometry source sage knows, picked by extension (.json model
 /// files; .geojson, .shp, .gpkg and other OGR formats; .off, .stl, .obj,
-/// .ply meshes). A .json file holding GeoJSON is read as GIS data.
+/// .ply meshes; .step, .stp, .iges, .igs, .brep CAD solids). A .json file
+/// holding GeoJSON is read as GIS data.
 /// Throws ModelError.
 Model load_model(const std::string& path, const LoadOptions& options = {});
 

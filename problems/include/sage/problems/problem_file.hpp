@@ -39,8 +39,10 @@ struct ProblemFile {
   }
 };
 
-/// Reads a problem file. Throws ProblemError (and geometry::ModelError for
-/// a domain model that cannot be read).
-ProblemFile read_problem_file(const std::string& path);
+/// Reads a problem file; a domain given as a path is read with
+/// `domain_options` (a CAD domain's "deflection" key applies unless they
+/// set one). Throws ProblemError (and geometry::ModelError for a domain
+/// model that cannot be read).
+ProblemFile read_problem_file(const std::string& path, const geometry::LoadOptions& domain_options = {});
 
 }  // namespace sage::problems

@@ -1,0 +1,34 @@
+#pragma once
+// Internal to the CAD part of sage_geometry (built with OpenCASCADE):
+//   read_cad_solid   cad_reader.cpp    file -> checked solid, unit, notes
+//   load_cad         cad_model.cpp     tessellation -> mesh::Soup -> Model
+//   describe_surface cad_surfaces.cpp  a face's surface type and parameters
+
+#include <sage/geometry/model.hpp>
+
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+
+#include <string>
+#include <vector>
+
+namespace sage::geometry::cad {
+
+/// A solid read from a CAD file, in OCCT's millimetres.
+struct CadSolid {
+  TopoDS_Shape shape;          // one solid, or a compound of disjoint solids
+  std::string format;          // "STEP", "IGES", "BREP"
+  std::string unit = "model";  // the file's length unit
+  double millimetres_per_unit = 1;
+  std::vector<std::string> notes;
+};
+
+/// Reads, checks and selects (options.solid) or unites the solids of a
+/// CAD file. Throws ModelError naming the file and the entity.
+CadSolid read_cad_solid(const std::string& path, const LoadOptions& options);
+
+/// The face's surface type and parameters (lengths divided by `scale`,
+/// the millimetres per model unit), its area and centroid.
+ModelFace describe_surface(const TopoDS_Face& face, double scale);
+
+}  // namespace sage::geometry::cad

@@ -1,0 +1,241 @@
+// read_cad_solid: a CAD file through OpenCASCADE's readers (STEP, IGES,
+// BREP) into one checked solid. OCCT's data exchange works in millimetres
+// (the "xstep.cascade.unit" default); the file's own unit is read back so
+// that the model keeps the coordinates the user's CAD system shows.
+#include "cad_internal.hpp"
+
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepCheck_Analyzer.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <IGESControl_Reader.hxx>
+#include <IGESData_GlobalSection.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <Interface_Static.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeFix_Shape.hxx>
+#include <ShapeFix_Solid.hxx>
+#include <Standard_Failure.hxx>
+#include <TColStd_SequenceOfAsciiString.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+
+namespace sage::geometry::cad {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw ModelError(path + ": " + what); }
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+std::string extension(const std::string& path) { return lower(std::filesystem::path(path).extension().string()); }
+
+/// Millimetres per unit for the length unit names STEP and IGES files give.
+std::optional<double> millimetres_per(const std::string& name) {
+  static const std::vector<std::pair<std::vector<std::string>, double>> units = {
+      {{"millimetre", "millimeter", "mm"}, 1.0},         {{"metre", "meter", "m"}, 1000.0},
+      {{"centimetre", "centimeter", "cm"}, 10.0},        {{"micrometre", "micrometer", "micron", "um"}, 1e-3},
+      {{"kilometre", "kilometer", "km"}, 1e6},           {{"inch", "in"}, 25.4},
+      {{"foot", "feet", "ft"}, 304.8},                   {{"mil", "mils"}, 0.0254},
+      {{"microinch", "uin"}, 25.4e-6},                   {{"mile", "mi"}, 1609344.0},
+      {{"decimetre", "decimeter", "dm"}, 100.0},
+  };
+  const std::string n = lower(name);
+  for (const auto& [names, mm] : units)
+    if (std::find(names.begin(), names.end(), n) != names.end()) return mm;
+  return std::nullopt;
+}
+
+// OCCT's data exchange keeps its parameters in process-wide statics.
+std::mutex& exchange_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
+  std::lock_guard<std::mutex> lock(exchange_mutex());
+  STEPControl_Reader reader;
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+    fail(path, "not a readable STEP file (OpenCASCADE's STEP reader refused it)");
+  TColStd_SequenceOfAsciiString lengths, angles, solid_angles;
+  reader.FileUnits(lengths, angles, solid_angles);
+  if (lengths.IsEmpty()) {
+    out.unit = "millimetre";
+    out.notes.push_back("unit: none declared in the file; millimetres assumed (STEP's default)");
+  } else {
+    out.unit = lower(lengths(1).ToCString());
+    const auto mm = millimetres_per(out.unit);
+    if (!mm) fail(path, "unknown length unit '" + std::string(lengths(1).ToCString()) + "'");
+    out.millimetres_per_unit = *mm;
+    for (int i = 2; i <= lengths.Length(); ++i)
+      if (lower(lengths(i).ToCString()) != out.unit)
+        out.notes.push_back("unit: the file declares several length units (" + out.unit + ", " +
+                            lengths(i).ToCString() + "); coordinates are in the first, " + out.unit);
+  }
+  if (reader.NbRootsForTransfer() == 0) fail(path, "no shape to transfer: the STEP file holds no geometry entity");
+  reader.TransferRoots();
+  if (reader.NbShapes() == 0)
+    fail(path, "no shape transferred: the STEP file's entities are not ones OpenCASCADE reads as geometry");
+  return reader.OneShape();
+}
+
+TopoDS_Shape read_iges(const std::string& path, CadSolid& out) {
+  std::lock_guard<std::mutex> lock(exchange_mutex());
+  IGESControl_Reader reader;
+  if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+    fail(path, "not a readable IGES file (OpenCASCADE's IGES reader refused it)");
+  const IGESData_GlobalSection& global = reader.IGESModel()->GlobalSection();
+  const double metres = global.UnitValue();
+  if (!(metres > 0)) fail(path, "unknown length unit (IGES unit flag " + std::to_string(global.UnitFlag()) + ")");
+  out.millimetres_per_unit = 1000 * metres;
+  out.unit = global.UnitName().IsNull() ? std::string("unit flag ") + std::to_string(global.UnitFlag())
+                                        : lower(global.UnitName()->ToCString());
+  if (const auto mm = millimetres_per(out.unit)) out.millimetres_per_unit = *mm;
+  reader.TransferRoots();
+  if (reader.NbShapes() == 0)
+    fail(path, "no shape transferred: the IGES file holds no surface or solid entity OpenCASCADE reads");
+  return reader.OneShape();
+}
+
+TopoDS_Shape read_brep(const std::string& path, CadSolid& out) {
+  TopoDS_Shape shape;
+  BRep_Builder builder;
+  if (!BRepTools::Read(shape, path.c_str(), builder) || shape.IsNull())
+    fail(path, "not a readable BREP file (OpenCASCADE's BRepTools::Read refused it)");
+  out.unit = "model unit";
+  out.notes.push_back("unit: BREP files carry none; coordinates are taken as they are");
+  return shape;
+}
+
+std::size_t count(const TopoDS_Shape& shape, TopAbs_ShapeEnum type) {
+  std::size_t n = 0;
+  for (TopExp_Explorer e(shape, type); e.More(); e.Next()) ++n;
+  return n;
+}
+
+/// Closed shells from loose faces or open shells: sewn within a tolerance
+/// of 1e-6 of the shape's size, refused when a free edge remains.
+std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_Shape& shape, CadSolid& out) {
+  const std::size_t faces = count(shape, TopAbs_FACE);
+  if (faces == 0) {
+    const std::size_t edges = count(shape, TopAbs_EDGE);
+    fail(path, "no solid and no face: the file holds " +
+                   (edges ? std::to_string(edges) + " edges (curves) only" : std::string("no surface")) +
+                   ", nothing that bounds a volume");
+  }
+  BRepBuilderAPI_Sewing sewing(1e-6);
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) sewing.Add(e.Current());
+  sewing.Perform();
+  const TopoDS_Shape sewn = sewing.SewedShape();
+  if (sewing.NbFreeEdges() > 0)
+    fail(path, "no solid, and its " + std::to_string(faces) + " faces do not close: " +
+                   std::to_string(sewing.NbFreeEdges()) +
+                   " free edges remain after sewing (tolerance 1e-6 mm): an open shell bounds no volume");
+  std::vector<TopoDS_Shell> shells;
+  for (TopExp_Explorer e(sewn, TopAbs_SHELL); e.More(); e.Next()) shells.push_back(TopoDS::Shell(e.Current()));
+  if (shells.empty()) {  // one closed face (a sphere's) comes back alone
+    TopoDS_Shell shell;
+    BRep_Builder builder;
+    builder.MakeShell(shell);
+    for (TopExp_Explorer e(sewn, TopAbs_FACE); e.More(); e.Next()) builder.Add(shell, e.Current());
+    shell.Closed(true);
+    shells.push_back(shell);
+  }
+  std::vector<TopoDS_Shape> solids;
+  for (const TopoDS_Shell& shell : shells) {
+    BRepBuilderAPI_MakeSolid make(shell);
+    if (!make.IsDone()) fail(path, "a sewn shell could not be made into a solid");
+    ShapeFix_Solid fix;  // orients the shell to bound its volume
+    fix.Init(make.Solid());
+    fix.Perform();
+    solids.push_back(fix.Solid());
+  }
+  if (solids.empty()) fail(path, "no solid, and sewing its " + std::to_string(faces) + " faces made no closed shell");
+  out.notes.push_back("sewn: no solid in the file; its " + std::to_string(faces) + " faces were sewn into " +
+                      std::to_string(solids.size()) + " closed shell(s) (tolerance 1e-6 mm, no free edge left)");
+  return solids;
+}
+
+/// The solid, checked; repaired with ShapeFix when the check fails.
+TopoDS_Shape checked(const std::string& path, const TopoDS_Shape& solid, std::size_t index, CadSolid& out) {
+  if (BRepCheck_Analyzer(solid).IsValid()) return solid;
+  ShapeFix_Shape fix(solid);
+  fix.Perform();
+  if (!BRepCheck_Analyzer(fix.Shape()).IsValid())
+    fail(path, "solid " + std::to_string(index) +
+                   " is not valid (BRepCheck_Analyzer) and OpenCASCADE's ShapeFix could not repair it");
+  out.notes.push_back("solid " + std::to_string(index) + ": not valid as read; repaired by ShapeFix_Shape");
+  return fix.Shape();
+}
+
+}  // namespace
+
+CadSolid read_cad_solid(const std::string& path, const LoadOptions& options) {
+  if (!std::ifstream(path)) fail(path, "cannot open the file");
+  CadSolid out;
+  const std::string ext = extension(path);
+  TopoDS_Shape shape;
+  try {
+    if (ext == ".step" || ext == ".stp") {
+      out.format = "STEP";
+      shape = read_step(path, out);
+    } else if (ext == ".iges" || ext == ".igs") {
+      out.format = "IGES";
+      shape = read_iges(path, out);
+    } else {
+      out.format = "BREP";
+      shape = read_brep(path, out);
+    }
+    std::vector<TopoDS_Shape> solids;
+    for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) solids.push_back(e.Current());
+    if (solids.empty()) solids = sew_into_solids(path, shape, out);
+    if (options.solid) {
+      if (*options.solid < 1 || static_cast<std::size_t>(*options.solid) > solids.size())
+        fail(path, "--solid " + std::to_string(*options.solid) + ": the file has " + std::to_string(solids.size()) +
+                       " solid(s), numbered from 1");
+      out.shape = checked(path, solids[static_cast<std::size_t>(*options.solid - 1)],
+                          static_cast<std::size_t>(*options.solid), out);
+      out.notes.push_back("solid " + std::to_string(*options.solid) + " of " + std::to_string(solids.size()) +
+                          " (--solid)");
+      return out;
+    }
+    for (std::size_t i = 0; i < solids.size(); ++i) solids[i] = checked(path, solids[i], i + 1, out);
+    if (solids.size() == 1) {
+      out.shape = solids[0];
+      out.notes.push_back("1 solid, valid (BRepCheck_Analyzer)");
+      return out;
+    }
+    // Several solids: their union (touching solids become one).
+    TopTools_ListOfShape arguments, tools;
+    arguments.Append(solids[0]);
+    for (std::size_t i = 1; i < solids.size(); ++i) tools.Append(solids[i]);
+    BRepAlgoAPI_Fuse fuse;
+    fuse.SetArguments(arguments);
+    fuse.SetTools(tools);
+    fuse.Build();
+    if (!fuse.IsDone()) fail(path, "the union of its " + std::to_string(solids.size()) + " solids failed (OCCT)");
+    out.shape = fuse.Shape();
+    out.notes.push_back(std::to_string(solids.size()) + " solids, valid (BRepCheck_Analyzer), united into " +
+                        std::to_string(count(out.shape, TopAbs_SOLID)) +
+                        " (BRepAlgoAPI_Fuse; --solid N takes one alone)");
+    return out;
+  } catch (const Standard_Failure& e) {
+    fail(path, std::string("OpenCASCADE failed: ") + (e.GetMessageString() ? e.GetMessageString() : "no message"));
+  }
+}
+
+}  // namespace sage::geometry::cad
