@@ -1,10 +1,13 @@
 // sage demo [-o DIR]: the main jobs on bundled data. Samples every bundled
 // example model (some with several R-function systems, to compare; a GIS
-// island among them), solves the bundled heat problems and the bracket's
-// stresses, and writes .vtu files for ParaView into DIR.
+// island among them), solves the bundled heat problems and the brackets'
+// stresses (2D, and the STEP part's), and writes .vtu files for ParaView
+// into DIR.
 
 #include "commands.hpp"
 #include "field_job.hpp"
+
+#include <sage/geometry/cad_model.hpp>
 
 #include <boost/program_options.hpp>
 
@@ -45,8 +48,13 @@ const DemoRun kRuns[] = {
 };
 // clang-format on
 
-// Problems solved after the fields, from the problems folder beside the models.
-const char* const kProblems[] = {"plate_heat.json", "block_with_hole.json", "bracket.json"};
+// Problems solved after the fields, from the problems folder beside the
+// models; the CAD bracket's when sage reads CAD files.
+std::vector<const char*> demo_problems() {
+  std::vector<const char*> problems = {"plate_heat.json", "block_with_hole.json", "bracket.json"};
+  if (geometry::cad_available()) problems.push_back("cad_bracket_stress.json");
+  return problems;
+}
 
 /// The folder of bundled models: $SAGE_DATA_DIR/models, the source tree
 /// (build tree runs), or <prefix>/share/sage/models next to the program.
@@ -71,8 +79,8 @@ int run_demo(const std::vector<std::string>& args) {
       "a 2D plate under four R-function systems, 3D primitives, a normalized\n"
       "formula, an island with a lake from GeoJSON), the solutions of two heat\n"
       "problems (a 2D plate, a 3D block with a cooling channel) and the stresses\n"
-      "in a bolted L-bracket (displacement, stress, von_mises) as .vtu files\n"
-      "for ParaView.\n\nOptions");
+      "in a bolted L-bracket, in 2D and as a STEP part (displacement, stress,\n"
+      "von_mises) as .vtu files for ParaView.\n\nOptions");
   options.add_options()("help,h", "show this help")("output,o", po::value(&out_dir),
                                                     "output folder (default sage-demo)");
   po::variables_map vm;
@@ -104,13 +112,14 @@ int run_demo(const std::vector<std::string>& args) {
               << r.omega_max << "], " << std::setprecision(3) << r.seconds_sampling << " s\n";
   }
   const fs::path problems = models / ".." / "problems";
-  for (const char* problem : kProblems) {
+  const std::vector<const char*> problems_to_solve = demo_problems();
+  for (const char* problem : problems_to_solve) {
     const std::string output = (fs::path(out_dir) / (fs::path(problem).stem().string() + ".vtu")).string();
     std::cout << "  solving " << problem << ":\n";
     const int status = run_solve({(problems / problem).lexically_normal().string(), "-o", output});
     if (status != 0) return status;
   }
-  std::cout << "wrote " << std::size(kRuns) + std::size(kProblems) << " files to "
+  std::cout << "wrote " << std::size(kRuns) + problems_to_solve.size() << " files to "
             << fs::absolute(out_dir).lexically_normal().string()
             << "\nopen them in ParaView (File > Open); color fields by omega, grad_norm or d<k>_omega, "
                "solutions by u.\n";

@@ -123,8 +123,8 @@ std::string values_present(const Model& model, const std::string& type, const st
 }
 
 const std::set<std::string>& surface_types() {
-  static const std::set<std::string> types = {"plane",      "cylinder",  "cone",   "sphere", "torus", "bspline",
-                                              "bezier",     "revolution", "extrusion", "offset", "other", "any"};
+  static const std::set<std::string> types = {"plane",  "cylinder",   "cone",      "sphere", "torus", "bspline",
+                                              "bezier", "revolution", "extrusion", "offset", "other", "any"};
   return types;
 }
 
@@ -143,11 +143,11 @@ std::string describe_face(const Model& model, std::size_t face) {
   if (f.surface == "torus" && f.radius)
     s << "  radii " << *f.radius << " and " << *f.minor_radius << ", axis " << vec(*f.axis) << " through "
       << at(*f.center);
-  if (f.surface == "cylinder" && f.radius) s << "  radius " << *f.radius << ", axis " << vec(*f.axis) << " through "
-                                             << at(*f.center);
+  if (f.surface == "cylinder" && f.radius)
+    s << "  radius " << *f.radius << ", axis " << vec(*f.axis) << " through " << at(*f.center);
   if (f.surface == "cone" && f.radius)
-    s << "  half-angle " << *f.half_angle << " degrees, radius " << *f.radius << " at " << at(*f.center)
-      << ", axis " << vec(*f.axis);
+    s << "  half-angle " << *f.half_angle << " degrees, radius " << *f.radius << " at " << at(*f.center) << ", axis "
+      << vec(*f.axis);
   s << "  area " << f.area << "  centroid " << at(f.centroid);
   return s.str();
 }
@@ -168,7 +168,9 @@ std::vector<std::size_t> faces_matching(const Model& model, const std::string& q
   std::vector<Condition> conditions;
   for (std::size_t i = 1; i < w.size();) {
     Condition c{w[i], {}, w[i]};
-    const std::size_t arity = c.key == "radius" ? 1 : (c.key == "normal" || c.key == "axis" || c.key == "center") ? 3 : 0;
+    const std::size_t arity = c.key == "radius"                                             ? 1
+                              : (c.key == "normal" || c.key == "axis" || c.key == "center") ? 3
+                                                                                            : 0;
     if (arity == 0)
       throw std::invalid_argument("face query '" + query + "': unknown condition '" + c.key +
                                   "' (use radius R, normal X Y Z, axis X Y Z or center X Y Z)");

@@ -61,7 +61,8 @@ class Welder {
 
  private:
   std::array<long long, 3> cell_of(const gp_Pnt& p) const {
-    return {static_cast<long long>(std::floor(p.X() / tolerance_)), static_cast<long long>(std::floor(p.Y() / tolerance_)),
+    return {static_cast<long long>(std::floor(p.X() / tolerance_)),
+            static_cast<long long>(std::floor(p.Y() / tolerance_)),
             static_cast<long long>(std::floor(p.Z() / tolerance_))};
   }
   static std::uint64_t key(const std::array<long long, 3>& c) {
@@ -77,9 +78,9 @@ class Welder {
 struct Tessellation {
   mesh::Soup soup;
   std::vector<ModelFace> faces;
-  double deviation = 0;          // the largest of the faces' measured deflections, in mm
+  double deviation = 0;  // the largest of the faces' measured deflections, in mm
   std::size_t deviation_face = 0;
-  std::size_t dropped = 0;       // triangles with two corners welded into one
+  std::size_t dropped = 0;  // triangles with two corners welded into one
 };
 
 Tessellation tessellate(const std::string& path, const TopoDS_Shape& shape, double deflection_mm, double scale) {
@@ -179,7 +180,8 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
   notes.push_back(cad::face_census(model.faces) + ", numbered from 1 as in OCCT and FreeCAD (sage info lists them)");
   std::ostringstream t;
   t << "tessellation (BRepMesh): chordal deflection " << deflection << " " << solid.unit
-    << (options.deflection ? " (--deflection)" : " (default: 1e-3 of the bounding box's diagonal; --deflection sets it)")
+    << (options.deflection ? " (--deflection)"
+                           : " (default: 1e-3 of the bounding box's diagonal; --deflection sets it)")
     << ", angular 20 degrees; " << model.surface->triangles.size() << " triangles; measured deviation at most "
     << tessellation.deviation / solid.millimetres_per_unit << " " << solid.unit << " (face "
     << tessellation.deviation_face << ")";

@@ -47,11 +47,16 @@ std::string extension(const std::string& path) { return lower(std::filesystem::p
 /// Millimetres per unit for the length unit names STEP and IGES files give.
 std::optional<double> millimetres_per(const std::string& name) {
   static const std::vector<std::pair<std::vector<std::string>, double>> units = {
-      {{"millimetre", "millimeter", "mm"}, 1.0},         {{"metre", "meter", "m"}, 1000.0},
-      {{"centimetre", "centimeter", "cm"}, 10.0},        {{"micrometre", "micrometer", "micron", "um"}, 1e-3},
-      {{"kilometre", "kilometer", "km"}, 1e6},           {{"inch", "in"}, 25.4},
-      {{"foot", "feet", "ft"}, 304.8},                   {{"mil", "mils"}, 0.0254},
-      {{"microinch", "uin"}, 25.4e-6},                   {{"mile", "mi"}, 1609344.0},
+      {{"millimetre", "millimeter", "mm"}, 1.0},
+      {{"metre", "meter", "m"}, 1000.0},
+      {{"centimetre", "centimeter", "cm"}, 10.0},
+      {{"micrometre", "micrometer", "micron", "um"}, 1e-3},
+      {{"kilometre", "kilometer", "km"}, 1e6},
+      {{"inch", "in"}, 25.4},
+      {{"foot", "feet", "ft"}, 304.8},
+      {{"mil", "mils"}, 0.0254},
+      {{"microinch", "uin"}, 25.4e-6},
+      {{"mile", "mi"}, 1609344.0},
       {{"decimetre", "decimeter", "dm"}, 100.0},
   };
   const std::string n = lower(name);
@@ -142,8 +147,8 @@ std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_
   sewing.Perform();
   const TopoDS_Shape sewn = sewing.SewedShape();
   if (sewing.NbFreeEdges() > 0)
-    fail(path, "no solid, and its " + std::to_string(faces) + " faces do not close: " +
-                   std::to_string(sewing.NbFreeEdges()) +
+    fail(path, "no solid, and its " + std::to_string(faces) +
+                   " faces do not close: " + std::to_string(sewing.NbFreeEdges()) +
                    " free edges remain after sewing (tolerance 1e-6 mm): an open shell bounds no volume");
   std::vector<TopoDS_Shell> shells;
   for (TopExp_Explorer e(sewn, TopAbs_SHELL); e.More(); e.Next()) shells.push_back(TopoDS::Shell(e.Current()));

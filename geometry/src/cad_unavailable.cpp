@@ -6,9 +6,10 @@ namespace sage::geometry {
 bool cad_available() { return false; }
 
 Model load_cad(const std::string& path, const LoadOptions&) {
-  throw ModelError(path + ": this sage was built without OpenCASCADE (-DSAGE_WITH_CAD=OFF) and reads no CAD file; "
-                          "rebuild it with OpenCASCADE (scripts/install-deps.sh installs it), or export the solid as "
-                          "STL");
+  throw ModelError(path +
+                   ": this sage was built without OpenCASCADE (-DSAGE_WITH_CAD=OFF) and reads no CAD file; "
+                   "rebuild it with OpenCASCADE (scripts/install-deps.sh installs it), or export the solid as "
+                   "STL");
 }
 
 }  // namespace sage::geometry

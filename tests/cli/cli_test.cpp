@@ -202,7 +202,7 @@ TEST(Cli, DemoWritesEveryFile) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
-  EXPECT_EQ(files, 16);  // 13 fields, 2 heat solutions and the bracket's stresses
+  EXPECT_EQ(files, 17);  // 13 fields, 2 heat solutions, the 2D bracket's and the STEP bracket's stresses
   // Each file holds what its job wrote: fields omega and derivatives up to
   // their order; the plate under min/max and R0 has one zero set but other
   // values; the heat solutions u; the bracket its stresses.
@@ -231,9 +231,11 @@ TEST(Cli, DemoWritesEveryFile) {
     ASSERT_FALSE(u.empty()) << name;
     EXPECT_GT(*std::max_element(u.begin(), u.end()), 0.0) << name;  // heated inside
   }
-  const auto bracket = read_vtu(dir / "bracket.vtu");
-  for (const char* array : {"displacement", "stress", "von_mises"})
-    EXPECT_TRUE(bracket->GetPointData()->GetArray(array)) << array;
+  for (const char* name : {"bracket.vtu", "cad_bracket_stress.vtu"}) {
+    const auto bracket = read_vtu(dir / name);
+    for (const char* array : {"displacement", "stress", "von_mises"})
+      EXPECT_TRUE(bracket->GetPointData()->GetArray(array)) << name << " " << array;
+  }
 }
 
 // ---- bad input: message names the file and place, exit code non-zero ----------

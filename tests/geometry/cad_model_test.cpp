@@ -6,8 +6,8 @@
 #include <sage/tape/evaluator.hpp>
 #include <sage/tape/tape.hpp>
 
-#include <cad_fixtures.hpp>
 #include <gtest/gtest.h>
+#include <cad_fixtures.hpp>
 #include <test_files.hpp>
 
 #include <BRepBuilderAPI_MakeEdge.hxx>
@@ -43,7 +43,9 @@ double enclosed_volume(const Model& m) {
   double v = 0;
   for (const auto& t : m.surface->triangles) {
     const auto &a = m.surface->points[t[0]], &b = m.surface->points[t[1]], &c = m.surface->points[t[2]];
-    v += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    v +=
+        (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) /
+        6;
   }
   return v;
 }
@@ -76,8 +78,8 @@ TEST(CadModel, BlockWithChannelFacesAreasAndVolume) {
       ++planes;
       ASSERT_TRUE(f.normal);
       // Outward: the normal points from the block's centre to the face.
-      const double out = (*f.normal)[0] * f.centroid[0] + (*f.normal)[1] * f.centroid[1] +
-                         (*f.normal)[2] * (f.centroid[2] - 0.5);
+      const double out =
+          (*f.normal)[0] * f.centroid[0] + (*f.normal)[1] * f.centroid[1] + (*f.normal)[2] * (f.centroid[2] - 0.5);
       EXPECT_GT(out, 0.4);
       const bool cap = std::abs((*f.normal)[2]) > 0.5;
       EXPECT_NEAR(f.area, cap ? 4 - M_PI * 0.16 : 2.0, 1e-9);

@@ -5,8 +5,8 @@
 #include <sage/problems/problem_file.hpp>
 #include <sage/solver/poisson.hpp>
 
-#include <cad_fixtures.hpp>
 #include <gtest/gtest.h>
+#include <cad_fixtures.hpp>
 #include <test_files.hpp>
 
 #include "../cli/cli_support.hpp"
@@ -46,22 +46,26 @@ TEST(CadProblem, FacesAsPartsGiveTheLinearSolution) {
   // insulated (the side faces and the channel's facets are vertical).
   const geometry::Model model = geometry::load_model(block_step());
   const std::size_t bottom = geometry::faces_matching(model, "plane normal 0 0 -1").at(0);
-  const std::string problem = write("linear.json", R"({
-    "domain": ")" + block_step() + R"(",
+  const std::string problem = write(
+      "linear.json", R"({
+    "domain": ")" + block_step() +
+                         R"(",
     "bounds": { "min": [-1, -1, 0], "max": [1, 1, 1] },
     "exact": "z",
     "boundary": {
       "top": { "type": "dirichlet", "value": 1, "faces": "plane normal 0 0 1" },
-      "face:)" + std::to_string(bottom) + R"(": { "type": "dirichlet", "value": 0 },
+      "face:)" + std::to_string(bottom) +
+                         R"(": { "type": "dirichlet", "value": 0 },
       "channel": { "type": "neumann", "faces": "cylinder radius 0.4" },
       "sides": { "type": "neumann", "faces": [)" +
-                                     [&] {
-                                       std::string list;
-                                       for (std::size_t f : geometry::faces_matching(model, "plane"))
-                                         if (std::abs(model.faces[f - 1].normal->at(2)) < 0.5)
-                                           list += (list.empty() ? "" : ", ") + std::to_string(f);
-                                       return list;
-                                     }() + R"(] }
+                         [&] {
+                           std::string list;
+                           for (std::size_t f : geometry::faces_matching(model, "plane"))
+                             if (std::abs(model.faces[f - 1].normal->at(2)) < 0.5)
+                               list += (list.empty() ? "" : ", ") + std::to_string(f);
+                           return list;
+                         }() +
+                         R"(] }
     }
   })");
   const ProblemFile file = read_problem_file(problem);
