@@ -4,6 +4,8 @@
 #include "field_job.hpp"
 
 #include <sage/geometry/cad_model.hpp>
+#include <sage/output/output_file.hpp>
+#include <sage/output/vtk_writer.hpp>
 
 #include <sage/sampling/sampling_plan.hpp>
 #include <sage/tape/evaluator.hpp>
@@ -26,11 +28,19 @@ int run_info(const std::vector<std::string>& args) {
   add("help,h", "show this help");
   add("rfunction", po::value(&rfunction), "default R-function (as for sage field)");
   add("no-certify", "polygons: skip the well-formedness certificate");
+  std::string faces_vtp;
+  add("faces-vtp", po::value(&faces_vtp),
+      "CAD: also write the tessellated faces to this .vtp, cell array `face`\n(colour by it in ParaView to pick "
+      "parts)");
   add_source_options(options, load, source_text);
   po::variables_map vm;
   if (!parse_model_command(args, options, model_path, vm)) return 0;
   finish_source_options(vm, load, source_text);
   load.certify = vm.count("no-certify") == 0;
+  if (vm.count("faces-vtp")) {
+    if (!faces_vtp.ends_with(".vtp")) throw UsageError{"--faces-vtp writes a .vtp file"};
+    output::check_writable(faces_vtp);
+  }
 
   const geometry::Model model =
       load_model(model_path, vm.count("rfunction") ? std::optional<std::string>(rfunction) : std::nullopt, load);
@@ -47,6 +57,14 @@ int run_info(const std::vector<std::string>& args) {
               << model.unit << "): a problem file names them as parts, \"face:N\" or \"faces\"\n";
     for (std::size_t f = 1; f <= model.faces.size(); ++f)
       std::cout << "  " << geometry::describe_face(model, f) << "\n";
+  }
+  if (vm.count("faces-vtp")) {
+    if (model.faces.empty())
+      throw std::runtime_error(model_path + ": --faces-vtp: the model has no faces (CAD files have them)");
+    output::write_surface(faces_vtp, *model.surface,
+                          {{"face", std::vector<int>(model.triangle_faces.begin(), model.triangle_faces.end())}});
+    std::cout << "wrote " << faces_vtp << ": " << model.surface->triangles.size() << " triangles, cell array face (1.."
+              << model.faces.size() << ")\n";
   }
   std::cout << "expression:  " << model.field.node_count() << " nodes, tape of " << tape.code().size()
             << " instructions over " << tape.register_count() << " registers\n";

@@ -121,9 +121,9 @@ int main(int argc, char** argv) try {
   double volume = 0;
   for (const auto& t : model.surface->triangles) {
     const auto &a = model.surface->points[t[0]], &b = model.surface->points[t[1]], &c = model.surface->points[t[2]];
-    volume += (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-               a[2] * (b[0] * c[1] - b[1] * c[0])) /
-              6;
+    volume +=
+        (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) /
+        6;
   }
   GProp_GProps solid;
   BRepGProp::VolumeProperties(part, solid);

@@ -4,16 +4,20 @@
 #include "provenance.hpp"
 
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkImageData.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkStringArray.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLImageDataWriter.h>
+#include <vtkXMLPolyDataWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
@@ -144,6 +148,34 @@ void write_field(const std::string& path, const FieldSamples& samples) {
     auto data = unstructured(samples);
     write_with<vtkXMLUnstructuredGridWriter>(path, data.GetPointer());
   }
+}
+
+void write_surface(const std::string& path, const TriangleSurface& surface,
+                   const std::vector<std::pair<std::string, std::vector<int>>>& cell_arrays) {
+  if (!path.ends_with(".vtp")) throw OutputError(path + ": unsupported extension for a surface (use .vtp)");
+  vtkNew<vtkPolyData> data;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(static_cast<vtkIdType>(surface.points.size()));
+  for (std::size_t i = 0; i < surface.points.size(); ++i)
+    points->SetPoint(static_cast<vtkIdType>(i), surface.points[i].data());
+  data->SetPoints(points);
+  vtkNew<vtkCellArray> triangles;
+  for (const auto& t : surface.triangles) {
+    const vtkIdType ids[3] = {t[0], t[1], t[2]};
+    triangles->InsertNextCell(3, ids);
+  }
+  data->SetPolys(triangles);
+  for (const auto& [name, values] : cell_arrays) {
+    if (values.size() != surface.triangles.size())
+      throw std::invalid_argument("write_surface: array " + name + " needs one value per triangle");
+    vtkNew<vtkIntArray> array;
+    array->SetName(name.c_str());
+    array->SetNumberOfValues(static_cast<vtkIdType>(values.size()));
+    for (std::size_t i = 0; i < values.size(); ++i) array->SetValue(static_cast<vtkIdType>(i), values[i]);
+    data->GetCellData()->AddArray(array);
+  }
+  write_with<vtkXMLPolyDataWriter>(path, data.Get());
 }
 
 }  // namespace sage::output

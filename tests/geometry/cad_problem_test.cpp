@@ -11,6 +11,10 @@
 
 #include "../cli/cli_support.hpp"
 
+#include <vtkCellData.h>
+#include <vtkPolyData.h>
+#include <vtkXMLPolyDataReader.h>
+
 #include <fstream>
 #include <variant>
 
@@ -118,6 +122,23 @@ TEST(CadProblem, InfoListsTheFaces) {
   const auto bad = sage_cli_test::run("info " + write("bad.step", "not a step file\n"));
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("not a readable STEP file"), std::string::npos) << bad.output;
+  // The faces for ParaView: one cell per triangle, coloured by face number.
+  const std::string vtp = (test::scratch_dir() / "faces.vtp").string();
+  ASSERT_EQ(sage_cli_test::run("info " + block_step() + " --faces-vtp " + vtp).exit_code, 0);
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->SetFileName(vtp.c_str());
+  reader->Update();
+  const geometry::Model model = geometry::load_model(block_step());
+  EXPECT_EQ(reader->GetOutput()->GetNumberOfCells(), static_cast<vtkIdType>(model.surface->triangles.size()));
+  vtkDataArray* face = reader->GetOutput()->GetCellData()->GetArray("face");
+  ASSERT_NE(face, nullptr);
+  double range[2];
+  face->GetRange(range);
+  EXPECT_EQ(range[0], 1.0);
+  EXPECT_EQ(range[1], 7.0);
+  for (vtkIdType c = 0; c < face->GetNumberOfTuples(); ++c)
+    ASSERT_EQ(face->GetTuple1(c), model.triangle_faces[static_cast<std::size_t>(c)]);
+  EXPECT_EQ(sage_cli_test::run("info " + block_step() + " --faces-vtp faces.vtu").exit_code, 2);
   EXPECT_EQ(sage_cli_test::run("info " + block_step() + " --solid 0").exit_code, 2);
   EXPECT_EQ(sage_cli_test::run("info " + block_step() + " --deflection -1").exit_code, 2);
 }

@@ -10,10 +10,13 @@
 // and d<k>_omega for each higher order k in the samples, with one named
 // component per partial ("xx", "xy", ...).
 
+#include <sage/expression/triangle_surface.hpp>
 #include <sage/sampling/field_samples.hpp>
 
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace sage::output {
 
@@ -28,5 +31,11 @@ void write_field(const std::string& path, const FieldSamples& samples);
 
 /// True if `path` ends with one of the extensions write_field supports.
 bool is_supported_field_path(const std::string& path);
+
+/// Writes the triangles as a .vtp (vtkPolyData) with integer cell arrays,
+/// one value per triangle: a CAD model's faces by number, to pick them in
+/// ParaView. Throws OutputError naming the path.
+void write_surface(const std::string& path, const TriangleSurface& surface,
+                   const std::vector<std::pair<std::string, std::vector<int>>>& cell_arrays);
 
 }  // namespace sage::output
