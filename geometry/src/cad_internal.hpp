@@ -10,6 +10,7 @@
 #include <TopoDS_Shape.hxx>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sage::geometry::cad {
@@ -21,6 +22,9 @@ struct CadSolid {
   std::string unit = "model";  // the file's length unit
   double millimetres_per_unit = 1;
   std::vector<std::string> notes;
+  /// Faces the file names (STEP's ADVANCED_FACE names), as read; faces
+  /// that repair or union rebuilt lose theirs.
+  std::vector<std::pair<TopoDS_Shape, std::string>> face_names;
 };
 
 /// Reads, checks and selects (options.solid) or unites the solids of a

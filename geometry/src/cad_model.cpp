@@ -23,6 +23,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -83,7 +84,16 @@ struct Tessellation {
   std::size_t dropped = 0;  // triangles with two corners welded into one
 };
 
-Tessellation tessellate(const std::string& path, const TopoDS_Shape& shape, double deflection_mm, double scale) {
+/// The file's name for a face, if it has one.
+std::string name_of(const TopoDS_Shape& face, const CadSolid& solid) {
+  for (const auto& [named, name] : solid.face_names)
+    if (named.IsSame(face)) return name;
+  return {};
+}
+
+Tessellation tessellate(const std::string& path, const CadSolid& solid, double deflection_mm) {
+  const TopoDS_Shape& shape = solid.shape;
+  const double scale = solid.millimetres_per_unit;
   constexpr double kAngularDeflection = 20 * M_PI / 180;
   BRepMesh_IncrementalMesh mesher(shape, deflection_mm, false, kAngularDeflection, true);
   if (!mesher.IsDone()) throw ModelError(path + ": OpenCASCADE's mesher (BRepMesh) failed on the solid");
@@ -97,6 +107,7 @@ Tessellation tessellate(const std::string& path, const TopoDS_Shape& shape, doub
   for (int f = 1; f <= faces.Extent(); ++f) {
     const TopoDS_Face& face = TopoDS::Face(faces(f));
     out.faces.push_back(describe_surface(face, scale));
+    out.faces.back().name = name_of(face, solid);
     TopLoc_Location location;
     const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
     if (triangulation.IsNull() || triangulation->NbTriangles() == 0)
@@ -156,7 +167,7 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
     if (box.IsVoid()) throw ModelError(path + ": the solid has an empty bounding box");
     const double diagonal_mm = std::sqrt(box.SquareExtent()), scale = solid.millimetres_per_unit;
     deflection = options.deflection.value_or(1e-3 * diagonal_mm / scale);
-    tessellation = cad::tessellate(path, solid.shape, deflection * scale, scale);
+    tessellation = cad::tessellate(path, solid, deflection * scale);
   } catch (const Standard_Failure& e) {
     throw ModelError(path + ": OpenCASCADE failed: " + (e.GetMessageString() ? e.GetMessageString() : "no message"));
   }
@@ -178,6 +189,12 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
   notes.push_back(solid.format + " file read with OpenCASCADE; coordinates in its unit, " + solid.unit);
   for (const std::string& note : solid.notes) notes.push_back(note);
   notes.push_back(cad::face_census(model.faces) + ", numbered from 1 as in OCCT and FreeCAD (sage info lists them)");
+  const std::size_t named = static_cast<std::size_t>(
+      std::count_if(model.faces.begin(), model.faces.end(), [](const ModelFace& f) { return !f.name.empty(); }));
+  if (!solid.face_names.empty())
+    notes.push_back("face names: " + std::to_string(named) + " of " + std::to_string(model.faces.size()) +
+                    " faces named in the file" +
+                    (named < solid.face_names.size() ? " (faces rebuilt by repair or union lost theirs)" : ""));
   std::ostringstream t;
   t << "tessellation (BRepMesh): chordal deflection " << deflection << " " << solid.unit
     << (options.deflection ? " (--deflection)"

@@ -18,12 +18,15 @@
 #include <ShapeFix_Shape.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <Standard_Failure.hxx>
+#include <StepRepr_RepresentationItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
 
 #include <algorithm>
 #include <cctype>
@@ -95,7 +98,17 @@ TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
   reader.TransferRoots();
   if (reader.NbShapes() == 0)
     fail(path, "no shape transferred: the STEP file's entities are not ones OpenCASCADE reads as geometry");
-  return reader.OneShape();
+  const TopoDS_Shape shape = reader.OneShape();
+  // The names of the STEP entities the faces came from.
+  const Handle(XSControl_TransferReader) transfer = reader.WS()->TransferReader();
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
+    const Handle(StepRepr_RepresentationItem) item =
+        Handle(StepRepr_RepresentationItem)::DownCast(transfer->EntityFromShapeResult(e.Current(), 1));
+    if (item.IsNull() || item->Name().IsNull()) continue;
+    const std::string name = item->Name()->ToCString();
+    if (!name.empty() && name != "NONE") out.face_names.emplace_back(e.Current(), name);
+  }
+  return shape;
 }
 
 TopoDS_Shape read_iges(const std::string& path, CadSolid& out) {

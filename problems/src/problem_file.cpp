@@ -211,8 +211,8 @@ class Reader : geometry::JsonFields<ProblemError> {
   }
 
   /// The CAD faces a part names: "faces": [3, 4] or "faces": "cylinder
-  /// radius 4" (a query, or a face name from the file), or its own name
-  /// "face:12". Empty when it names none.
+  /// radius 4" (a query, or a face name from the file), or its own name:
+  /// "face:12", or the name the file gives faces. Empty when it names none.
   std::vector<std::size_t> named_faces(const Json& condition, const std::string& pointer,
                                        const std::string& name) const {
     const std::string at = pointer + "/faces";
@@ -236,6 +236,10 @@ class Reader : geometry::JsonFields<ProblemError> {
           fail(pointer, "\"face:N\" names one face by its number (from 1), as sage info lists it");
         return {std::stoul(number)};
       }
+      std::vector<std::size_t> named;  // faces the CAD file gives this part's name
+      for (std::size_t f = 0; f < out_.model.faces.size(); ++f)
+        if (out_.model.faces[f].name == name) named.push_back(f + 1);
+      return named;
     } catch (const std::invalid_argument& e) {
       fail(condition.contains("faces") ? at : pointer, e.what());
     } catch (const std::out_of_range&) {

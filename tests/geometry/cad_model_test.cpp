@@ -202,6 +202,27 @@ TEST(CadModel, FaceQueries) {
   }
 }
 
+TEST(CadModel, FaceNamesFromTheFile) {
+  // Name the channel and the top as a CAD system would, in the STEP file.
+  const TopoDS_Shape block = test::block_with_channel();
+  const Model plain = load_model(block_step());
+  const std::size_t channel = faces_matching(plain, "cylinder").at(0),
+                    top = faces_matching(plain, "plane normal 0 0 1").at(0);
+  std::vector<std::string> names(plain.faces.size());
+  names[channel - 1] = "channel";
+  names[top - 1] = "lid";
+  const std::string path = path_of("named.step");
+  test::write_step(block, path, "MM", STEPControl_AsIs, names);
+  const Model m = load_model(path);
+  EXPECT_EQ(m.faces[channel - 1].name, "channel");
+  EXPECT_EQ(m.faces[top - 1].name, "lid");
+  EXPECT_EQ(faces_matching(m, "channel"), std::vector<std::size_t>{channel});
+  EXPECT_NE(describe_face(m, top).find("\"lid\""), std::string::npos);
+  bool noted = false;
+  for (const std::string& note : m.notes) noted = noted || note.find("2 of 7 faces named") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
+
 TEST(CadModel, LooseFacesAreSewnIntoASolid) {
   // A sphere's surface without its solid (a shell-based surface model).
   const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shell();

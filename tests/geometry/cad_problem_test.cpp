@@ -4,6 +4,8 @@
 #include <sage/geometry/cad_model.hpp>
 #include <sage/problems/problem_file.hpp>
 #include <sage/solver/poisson.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
 
 #include <gtest/gtest.h>
 #include <cad_fixtures.hpp>
@@ -84,6 +86,25 @@ TEST(CadProblem, FacesAsPartsGiveTheLinearSolution) {
   // and take lines over an unbroken base (mesh_domain.cpp), 7e-5 here. A
   // part given the wrong condition would be off by 1e-1 or more.
   EXPECT_LT(*solution.report.l2_error, 2e-4);
+}
+
+TEST(CadProblem, PartsNamedAsTheFileNamesFaces) {
+  const geometry::Model plain = geometry::load_model(block_step());
+  std::vector<std::string> names(plain.faces.size());
+  names[geometry::faces_matching(plain, "cylinder").at(0) - 1] = "channel";
+  const std::string step = (test::scratch_dir() / "named_block.step").string();
+  test::write_step(test::block_with_channel(), step, "MM", STEPControl_AsIs, names);
+  const ProblemFile file = read_problem_file(write("named.json", R"({ "domain": ")" + step + R"(",
+    "boundary": { "channel": { "type": "robin", "beta": 1 }, "default": { "type": "dirichlet" } } })"));
+  const auto& p = std::get<solver::PoissonProblem>(file.physics);
+  ASSERT_EQ(p.parts.size(), 1u);
+  // The selector vanishes on the channel (radius 0.4 about the z axis,
+  // up to the facets' deviation) and not on the outer faces, where it
+  // stays far above the solver's tolerance of 1e-6 cell widths.
+  const Tape tape(p.parts[0].selector, 3);
+  Evaluator<double> eval(tape);
+  EXPECT_LT(std::abs(eval.at({0.4, 0.0, 0.5})), 2e-3);
+  EXPECT_GT(eval.at({1.0, 0.0, 0.5}), 1e-2);
 }
 
 TEST(CadProblem, MistakesNameThePlace) {

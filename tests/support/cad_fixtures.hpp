@@ -16,11 +16,21 @@
 #include <Message_PrinterOStream.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
+#include <StepShape_AdvancedFace.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TransferBRep.hxx>
+#include <TransferBRep_ShapeMapper.hxx>
+#include <Transfer_FinderProcess.hxx>
+#include <XSControl_TransferWriter.hxx>
+#include <XSControl_WorkSession.hxx>
 
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace sage::test {
 
@@ -41,17 +51,30 @@ inline TopoDS_Shape block_with_channel() {
   return BRepAlgoAPI_Cut(box, channel).Shape();
 }
 
-/// `unit` as OCCT's STEP writer names it: "MM", "M", "INCH", "FT", ...
+/// `unit` as OCCT's STEP writer names it: "MM", "M", "INCH", "FT", ...;
+/// `face_names`: the ADVANCED_FACE names of faces 1, 2, ... (TopExp::MapShapes'
+/// numbering; empty strings leave a face unnamed).
 inline void write_step(const TopoDS_Shape& shape, const std::string& path, const char* unit = "MM",
-                       STEPControl_StepModelType mode = STEPControl_AsIs) {
+                       STEPControl_StepModelType mode = STEPControl_AsIs,
+                       const std::vector<std::string>& face_names = {}) {
   quiet_occt();
   static std::mutex m;  // the unit is a process-wide parameter
   std::lock_guard<std::mutex> lock(m);
   STEPControl_Controller::Init();  // declares the parameters set below
   if (!Interface_Static::SetCVal("write.step.unit", unit)) throw std::runtime_error(std::string("unit ") + unit);
   STEPControl_Writer writer;
-  if (writer.Transfer(shape, mode) != IFSelect_RetDone || writer.Write(path.c_str()) != IFSelect_RetDone)
-    throw std::runtime_error("cannot write " + path);
+  if (writer.Transfer(shape, mode) != IFSelect_RetDone) throw std::runtime_error("cannot transfer " + path);
+  const Handle(Transfer_FinderProcess) process = writer.WS()->TransferWriter()->FinderProcess();
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  for (std::size_t f = 0; f < face_names.size() && static_cast<int>(f) < faces.Extent(); ++f) {
+    if (face_names[f].empty()) continue;
+    const Handle(StepShape_AdvancedFace) entity = Handle(StepShape_AdvancedFace)::DownCast(
+        process->FindTransient(TransferBRep::ShapeMapper(process, faces(static_cast<int>(f) + 1))));
+    if (entity.IsNull()) throw std::runtime_error("no STEP face for face " + std::to_string(f + 1));
+    entity->SetName(new TCollection_HAsciiString(face_names[f].c_str()));
+  }
+  if (writer.Write(path.c_str()) != IFSelect_RetDone) throw std::runtime_error("cannot write " + path);
   Interface_Static::SetCVal("write.step.unit", "MM");
 }
 
