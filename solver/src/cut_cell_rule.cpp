@@ -723,8 +723,7 @@ class CutCellRule<D>::Impl {
   /// Tensor Gauss points over the free axes.
   void tensor_emit(const Box<D>& box, unsigned free, const Emit& emit) {
     const GaussRule& rule = gauss_legendre(points_);
-    const int q = (resolve_base_ ? 1 : (std::getenv("UQ") ? std::atoi(std::getenv("UQ")) : 1)) * points_,
-              m = std::popcount(free);
+    const int q = points_, m = std::popcount(free);
     int total = 1;
     for (int k = 0; k < m; ++k) total *= q;
     for (int k = 0; k < total; ++k) {
