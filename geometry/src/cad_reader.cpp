@@ -5,11 +5,13 @@
 #include "cad_internal.hpp"
 
 #include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
+#include <Bnd_Box.hxx>
 #include <IGESControl_Reader.hxx>
 #include <IGESData_GlobalSection.hxx>
 #include <IGESData_IGESModel.hxx>
@@ -30,6 +32,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -145,8 +148,8 @@ std::size_t count(const TopoDS_Shape& shape, TopAbs_ShapeEnum type) {
   return n;
 }
 
-/// Closed shells from loose faces or open shells: sewn within a tolerance
-/// of 1e-6 of the shape's size, refused when a free edge remains.
+/// Closed shells from loose faces or open shells: sewn within 1e-6 of the
+/// shape's size (at least OCCT's 1e-6 mm), refused when a free edge remains.
 std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_Shape& shape, CadSolid& out) {
   const std::size_t faces = count(shape, TopAbs_FACE);
   if (faces == 0) {
@@ -155,14 +158,17 @@ std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_
                    (edges ? std::to_string(edges) + " edges (curves) only" : std::string("no surface")) +
                    ", nothing that bounds a volume");
   }
-  BRepBuilderAPI_Sewing sewing(1e-6);
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box);
+  const double tolerance = std::max(1e-6, box.IsVoid() ? 0.0 : 1e-6 * std::sqrt(box.SquareExtent()));
+  BRepBuilderAPI_Sewing sewing(tolerance);
   for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) sewing.Add(e.Current());
   sewing.Perform();
   const TopoDS_Shape sewn = sewing.SewedShape();
   if (sewing.NbFreeEdges() > 0)
-    fail(path, "no solid, and its " + std::to_string(faces) +
-                   " faces do not close: " + std::to_string(sewing.NbFreeEdges()) +
-                   " free edges remain after sewing (tolerance 1e-6 mm): an open shell bounds no volume");
+    fail(path, "no solid, and its " + std::to_string(faces) + " faces do not close: " +
+                   std::to_string(sewing.NbFreeEdges()) + " free edges remain after sewing (tolerance " +
+                   std::to_string(tolerance) + " mm): an open shell bounds no volume");
   std::vector<TopoDS_Shell> shells;
   for (TopExp_Explorer e(sewn, TopAbs_SHELL); e.More(); e.Next()) shells.push_back(TopoDS::Shell(e.Current()));
   if (shells.empty()) {  // one closed face (a sphere's) comes back alone
@@ -184,7 +190,8 @@ std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_
   }
   if (solids.empty()) fail(path, "no solid, and sewing its " + std::to_string(faces) + " faces made no closed shell");
   out.notes.push_back("sewn: no solid in the file; its " + std::to_string(faces) + " faces were sewn into " +
-                      std::to_string(solids.size()) + " closed shell(s) (tolerance 1e-6 mm, no free edge left)");
+                      std::to_string(solids.size()) + " closed shell(s) (tolerance " + std::to_string(tolerance) +
+                      " mm, no free edge left)");
   return solids;
 }
 
