@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 
+#include <sage/geometry/cad_model.hpp>
 #include <sage/geometry/csg_model.hpp>
 #include <sage/output/vtk_writer.hpp>
 
@@ -64,7 +65,10 @@ int main(int argc, char** argv) {
     return args.empty() ? 2 : 0;
   }
   if (args[0] == "--version") {
-    std::cout << "sage " << SAGE_VERSION << "\n";
+    std::cout << "sage " << SAGE_VERSION << "\n"
+              << "CAD files (STEP, IGES, BREP): "
+              << (sage::geometry::cad_available() ? sage::geometry::cad_library() : "not built (-DSAGE_WITH_CAD=OFF)")
+              << "\n";
     return 0;
   }
   const std::string command = args[0];

@@ -11,8 +11,10 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 #include <optional>
+#include <utility>
 
 namespace sage::python {
 
@@ -56,7 +58,8 @@ void check_order(int order) {
 
 PyModel load(const std::string& path, const std::optional<std::string>& rfunction, const std::string& method,
              const std::optional<std::string>& crs, const std::optional<std::string>& layer,
-             const std::optional<std::string>& where, const std::vector<long long>& features, bool repair) {
+             const std::optional<std::string>& where, const std::vector<long long>& features, bool repair,
+             const std::optional<int>& solid, const std::optional<double>& deflection) {
   geometry::LoadOptions options;
   if (rfunction) options.rfunction = RSystem::parse(*rfunction);
   if (method != "csg" && method != "brep") throw py::value_error("method must be \"csg\" or \"brep\", not " + method);
@@ -66,6 +69,11 @@ PyModel load(const std::string& path, const std::optional<std::string>& rfunctio
   options.where = where;
   options.features = features;
   options.repair = repair;
+  if (solid && *solid < 1) throw py::value_error("solid numbers solids from 1");
+  if (deflection && !(*deflection > 0 && std::isfinite(*deflection)))
+    throw py::value_error("deflection must be a positive length");
+  options.solid = solid;
+  options.deflection = deflection;
   py::gil_scoped_release unlocked;
   return wrap(geometry::load_model(path, options));
 }
@@ -140,6 +148,26 @@ py::dict sample(const PyModel& self, const std::optional<std::vector<int>>& coun
   return out;
 }
 
+py::list faces_of(const PyModel& self) {
+  py::list out;
+  for (std::size_t i = 0; i < self.model.faces.size(); ++i) {
+    const geometry::ModelFace& f = self.model.faces[i];
+    py::dict d;
+    d["number"] = i + 1;
+    d["surface"] = f.surface;
+    d["name"] = f.name;
+    d["area"] = f.area;
+    d["centroid"] = py::make_tuple(f.centroid[0], f.centroid[1], f.centroid[2]);
+    for (const auto& [key, v] : {std::pair{"normal", &f.normal}, {"axis", &f.axis}, {"center", &f.center}})
+      if (*v) d[key] = py::make_tuple((**v)[0], (**v)[1], (**v)[2]);
+    for (const auto& [key, v] :
+         {std::pair{"radius", &f.radius}, {"minor_radius", &f.minor_radius}, {"half_angle", &f.half_angle}})
+      if (*v) d[key] = **v;
+    out.append(d);
+  }
+  return out;
+}
+
 }  // namespace
 
 void bind_models(py::module_& m) {
@@ -155,6 +183,14 @@ void bind_models(py::module_& m) {
           "the coordinate reference system of the field's plane, as WKT ('' when none)")
       .def_property_readonly("notes", [](const PyModel& p) { return p.model.notes; })
       .def_property_readonly("warnings", [](const PyModel& p) { return p.model.warnings; })
+      .def_property_readonly("faces", &faces_of,
+                             "CAD solids: the faces, numbered from 1 (face 1 is faces[0]), as dicts with 'number',\n"
+                             "'surface' (plane, cylinder, ...), 'name' (the file's, or ''), 'area', 'centroid' and,\n"
+                             "where the surface has them, 'normal', 'axis', 'center', 'radius', 'minor_radius',\n"
+                             "'half_angle' (degrees); [] for other models")
+      .def_property_readonly(
+          "unit", [](const PyModel& p) { return p.model.unit; },
+          "CAD solids: the length unit of the coordinates ('millimetre', ...); '' otherwise")
       .def_property_readonly(
           "bounds",
           [](const PyModel& p) -> py::object {
@@ -191,13 +227,16 @@ void bind_models(py::module_& m) {
       });
   m.def("load", &load, py::arg("path"), py::kw_only(), py::arg("rfunction") = py::none(), py::arg("method") = "csg",
         py::arg("crs") = py::none(), py::arg("layer") = py::none(), py::arg("where") = py::none(),
-        py::arg("features") = std::vector<long long>{}, py::arg("repair") = false,
+        py::arg("features") = std::vector<long long>{}, py::arg("repair") = false, py::arg("solid") = py::none(),
+        py::arg("deflection") = py::none(),
         "load(path, *, rfunction=None, method='csg', crs=None, layer=None, where=None, features=[],\n"
-        "     repair=False) -> Model\n\n"
+        "     repair=False, solid=None, deflection=None) -> Model\n\n"
         "Reads a model as `sage field` does: a JSON model, GIS polygons (any vector format GDAL reads;\n"
-        "layer, where='NAME = ...', features=[0, 2], crs='EPSG:4326' for data without one, repair), or a\n"
-        "closed triangle mesh (.off, .stl, .obj, .ply). rfunction: 'r0', 'rp:4', 'ralpha:0.5', 'minmax'...\n"
-        "method: 'csg' (well-formed CSG) or 'brep' (trimmed edges/faces). Raises ModelError.");
+        "layer, where='NAME = ...', features=[0, 2], crs='EPSG:4326' for data without one, repair), a\n"
+        "closed triangle mesh (.off, .stl, .obj, .ply), or a CAD solid (.step, .stp, .iges, .igs, .brep;\n"
+        "solid=N picks one, deflection sets the tessellation's; Model.faces lists the faces).\n"
+        "rfunction: 'r0', 'rp:4', 'ralpha:0.5', 'minmax'... method: 'csg' (well-formed CSG) or 'brep'\n"
+        "(trimmed edges/faces). Raises ModelError.");
   m.def(
       "from_geojson",
       [](const py::object& geojson, const std::optional<std::string>& crs, const std::string& method, bool repair) {

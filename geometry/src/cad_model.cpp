@@ -19,6 +19,7 @@
 #include <Poly_Triangulation.hxx>
 #include <Precision.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_Version.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -32,6 +33,8 @@
 namespace sage::geometry {
 
 bool cad_available() { return true; }
+
+std::string cad_library() { return std::string("OpenCASCADE ") + OCC_VERSION_COMPLETE; }
 
 namespace cad {
 namespace {

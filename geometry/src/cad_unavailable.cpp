@@ -5,6 +5,8 @@ namespace sage::geometry {
 
 bool cad_available() { return false; }
 
+std::string cad_library() { return {}; }
+
 Model load_cad(const std::string& path, const LoadOptions&) {
   throw ModelError(path +
                    ": this sage was built without OpenCASCADE (-DSAGE_WITH_CAD=OFF) and reads no CAD file; "

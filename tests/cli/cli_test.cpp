@@ -202,7 +202,10 @@ TEST(Cli, DemoWritesEveryFile) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().extension() == ".vtu";
-  EXPECT_EQ(files, 17);  // 13 fields, 2 heat solutions, the 2D bracket's and the STEP bracket's stresses
+  // 13 fields, 2 heat solutions, the 2D bracket's stresses, and the STEP
+  // bracket's where this sage reads CAD files.
+  const bool cad = run("--version").output.find("OpenCASCADE") != std::string::npos;
+  EXPECT_EQ(files, cad ? 17 : 16);
   // Each file holds what its job wrote: fields omega and derivatives up to
   // their order; the plate under min/max and R0 has one zero set but other
   // values; the heat solutions u; the bracket its stresses.
@@ -232,6 +235,7 @@ TEST(Cli, DemoWritesEveryFile) {
     EXPECT_GT(*std::max_element(u.begin(), u.end()), 0.0) << name;  // heated inside
   }
   for (const char* name : {"bracket.vtu", "cad_bracket_stress.vtu"}) {
+    if (!cad && std::string(name) == "cad_bracket_stress.vtu") continue;
     const auto bracket = read_vtu(dir / name);
     for (const char* array : {"displacement", "stress", "von_mises"})
       EXPECT_TRUE(bracket->GetPointData()->GetArray(array)) << name << " " << array;

@@ -18,6 +18,7 @@ SAGE = os.environ.get("SAGE_EXECUTABLE", "sage")
 PLATE = os.path.join(SOURCE, "examples", "models", "plate_with_holes.json")
 ISLAND = os.path.join(SOURCE, "examples", "models", "island_with_lake.geojson")
 DISK = os.path.join(SOURCE, "examples", "problems", "disk.json")
+BRACKET_STEP = os.path.join(SOURCE, "examples", "models", "l_bracket.step")
 
 
 class ModelTest(unittest.TestCase):
@@ -185,6 +186,33 @@ class MemorySourceTest(unittest.TestCase):
         with self.assertRaises(sage.ModelError) as caught:
             sage.from_mesh(vertices, triangles[:-1])
         self.assertIn("mesh from Python", str(caught.exception))
+
+
+@unittest.skipUnless("OpenCASCADE" in subprocess.run([SAGE, "--version"], capture_output=True, text=True).stdout,
+                     "sage built without OpenCASCADE")
+class CadTest(unittest.TestCase):
+    def test_cad_part_and_its_faces(self):
+        """The bundled STEP bracket: its faces as the command line lists them, and its field's signs."""
+        bracket = sage.load(BRACKET_STEP)
+        self.assertEqual(bracket.unit, "millimetre")
+        faces = bracket.faces
+        self.assertEqual(len(faces), 15)
+        bolts = [f for f in faces if f["surface"] == "cylinder" and abs(f["radius"] - 4) < 1e-9]
+        self.assertEqual(len(bolts), 2)
+        self.assertAlmostEqual(bolts[0]["area"], 2 * math.pi * 4 * 8, places=6)
+        info = subprocess.run([SAGE, "info", BRACKET_STEP], capture_output=True, text=True, check=True).stdout
+        self.assertIn("%d  cylinder  radius 4" % bolts[0]["number"], info)
+        omega = bracket.evaluate(np.array([[40.0, 20.0, 4.0], [45.0, 20.0, 4.0], [40.0, 20.0, 30.0]]), order=0)["omega"]
+        self.assertGreater(omega[0], 0.0)  # in the base
+        self.assertLess(omega[1], 0.0)  # in a bolt hole
+        self.assertLess(omega[2], 0.0)  # above the base, beside the upright
+        coarse = sage.load(BRACKET_STEP, deflection=0.5)
+        self.assertTrue(any("chordal deflection 0.5 millimetre" in n for n in coarse.notes))
+        with self.assertRaises(ValueError):
+            sage.load(BRACKET_STEP, solid=0)
+        with self.assertRaises(sage.ModelError) as caught:
+            sage.load(BRACKET_STEP, solid=2)
+        self.assertIn("the file has 1 solid(s)", str(caught.exception))
 
 
 def available(module):

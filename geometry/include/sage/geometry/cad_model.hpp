@@ -20,6 +20,9 @@ bool is_cad_path(const std::string& path);
 /// load_cad then refuses every file, saying so.
 bool cad_available();
 
+/// "OpenCASCADE 7.6.3", or "" without it: for `sage --version`.
+std::string cad_library();
+
 /// Reads a CAD file: its solids (options.solid picks one; several are
 /// united), checked with BRepCheck_Analyzer (ShapeFix where it fails);
 /// faces without a solid are sewn into closed shells when that leaves no
