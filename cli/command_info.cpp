@@ -47,8 +47,8 @@ int run_info(const std::vector<std::string>& args) {
   const Tape tape(model.field, model.dimension);
   std::cout << "model:       " << model_path << (model.name.empty() ? "" : " (" + model.name + ")") << "\n"
             << "dimension:   " << model.dimension << "\n"
-            << "R-function:  " << model.rfunction.name() << " (default for operators)\n"
-            << "primitives:  " << model.primitives.size() << "\n";
+            << "R-function:  " << model.rfunction.name() << " (default for operators)\n";
+  if (model.faces.empty()) std::cout << "primitives:  " << model.primitives.size() << "\n";  // CAD: faces below
   for (const auto& p : model.primitives)
     std::cout << "  " << p.type << (p.name.empty() ? "" : " \"" + p.name + "\"") << " at " << p.pointer << "\n";
   for (const auto& note : model.notes) std::cout << "note:        " << note << "\n";
