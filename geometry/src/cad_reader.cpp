@@ -33,7 +33,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <mutex>
 
@@ -47,8 +46,6 @@ std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
 }
-
-std::string extension(const std::string& path) { return lower(std::filesystem::path(path).extension().string()); }
 
 /// Millimetres per unit for the length unit names STEP and IGES files give.
 std::optional<double> millimetres_per(const std::string& name) {
@@ -212,7 +209,7 @@ TopoDS_Shape checked(const std::string& path, const TopoDS_Shape& solid, std::si
 CadSolid read_cad_solid(const std::string& path, const LoadOptions& options) {
   if (!std::ifstream(path)) fail(path, "cannot open the file");
   CadSolid out;
-  const std::string ext = extension(path);
+  const std::string ext = lowercase_extension(path);
   TopoDS_Shape shape;
   try {
     if (ext == ".step" || ext == ".stp") {

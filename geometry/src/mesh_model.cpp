@@ -21,8 +21,7 @@
 namespace sage::geometry {
 
 bool is_mesh_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercase_extension(path);
   return ext == ".off" || ext == ".stl" || ext == ".obj" || ext == ".ply";
 }
 

@@ -123,8 +123,7 @@ std::string read_file(const std::string& path) {
 // The file's points and polygons: OFF and PLY with sage's readers, STL and
 // OBJ with CGAL's.
 std::vector<std::vector<std::size_t>> read_polygons(const std::string& path, std::vector<Point>& points) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercase_extension(path);
   if (ext == ".off" || ext == ".ply") {
     const std::string data = read_file(path);
     PolygonSoup soup = ext == ".off" ? read_off(path, data) : read_ply(path, data);

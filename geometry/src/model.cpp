@@ -10,12 +10,17 @@
 
 namespace sage::geometry {
 
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
 Model load_model(const std::string& path, const LoadOptions& options) {
   if (is_mesh_path(path)) return load_mesh(path, options);
   if (is_cad_path(path)) return load_cad(path, options);
   if (is_gis_path(path)) return load_gis(path, options);
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lowercase_extension(path);
   if (!ext.empty() && ext != ".json")
     throw ModelError(path + ": unknown file type '" + ext +
                      "': sage reads JSON models (.json), GIS polygons (.geojson, .shp, .gpkg, .gml, .kml, .fgb, "

@@ -117,6 +117,10 @@ struct LoadOptions {
   std::optional<double> deflection;
 };
 
+/// The path's extension in lower case (".step"), "" when it has none: what
+/// the readers are picked by.
+std::string lowercase_extension(const std::string& path);
+
 /// Reads any geometry source sage knows, picked by extension (.json model
 /// files; .geojson, .shp, .gpkg and other OGR formats; .off, .stl, .obj,
 /// .ply meshes; .step, .stp, .iges, .igs, .brep CAD solids). A .json file
