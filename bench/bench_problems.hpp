@@ -11,7 +11,7 @@ inline solver::PoissonProblem zero_dirichlet(const geometry::Model& model) {
   solver::PoissonProblem p;
   p.domain.dimension = model.dimension;
   p.domain.field = model.field;
-  p.domain.boundary_mesh = model.surface;
+  if (model.field_follows_surface) p.domain.boundary_mesh = model.surface;
   for (int a = 0; a < 3; ++a) {
     p.domain.min[a] = model.bounds->min[a];
     p.domain.max[a] = model.bounds->max[a];

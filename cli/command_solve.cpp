@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <variant>
 
 namespace po = boost::program_options;
@@ -50,6 +51,7 @@ void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& 
               command.options.robin == solver::RobinRoute::Structure ? "structure" : "weak",
               command.options.cell_width);
   std::fputs(command.grid_note.c_str(), stdout);
+  std::fputs(command.geometry_note.c_str(), stdout);
   if (r.nitsche_penalty) std::printf("  Nitsche penalty %g / h\n", *r.nitsche_penalty);
   if (r.robin_band) {
     if (*r.robin_band > 0.0)
@@ -70,6 +72,19 @@ void solve_and_write(const SolveCommand& command, const solver::PoissonProblem& 
       "errors %.3f, output %.3f\n",
       s.field, s.classification, s.quadrature, s.assembly, s.solve, s.condition, s.errors, output_seconds);
   print_written(command.output_path, written);
+}
+
+/// What a CAD domain's cut cells follow: the exact faces, or their
+/// tessellation (and why).
+std::string geometry_note(const geometry::Model& model) {
+  if (model.faces.empty()) return {};
+  if (!model.field_follows_surface) return "  geometry: the exact CAD faces (sage info tells how)\n";
+  std::ostringstream s;
+  s << "  geometry: the CAD faces' tessellation, within " << model.deflection << " " << model.unit;
+  for (const std::string& note : model.notes)
+    if (note.rfind("no exact field: ", 0) == 0) s << " (" << note << ")";
+  s << "\n";
+  return s.str();
 }
 
 /// The options of `sage solve`, writing into `command` (and `cells`, `h`,
@@ -210,6 +225,7 @@ int run_solve(const std::vector<std::string>& args) {
                           std::to_string(grid.cells_inside) + " cells inside, " + std::to_string(grid.cells_cut) +
                           " cut (--cells or --h to choose)\n";
   }
+  command.geometry_note = geometry_note(file.model);
   std::visit(
       [&](const auto& problem) {
         if (domain.dimension == 2)

@@ -37,6 +37,7 @@ void solve_and_write(const SolveCommand& command, const solver::ElasticityProble
               m.poisson, command.options.degree, command.basis.c_str(), r.dirichlet_route.c_str(),
               command.options.cell_width);
   std::fputs(command.grid_note.c_str(), stdout);
+  std::fputs(command.geometry_note.c_str(), stdout);
   if (r.nitsche_penalty) std::printf("  Nitsche penalty %g (2 mu + lambda) / h\n", *r.nitsche_penalty);
   print_solve_report(r, solution.domain, solution.mesh != nullptr);
   if (results.free_rigid_motions > 0)

@@ -28,7 +28,8 @@ struct SolveCommand {
   std::optional<int> cells;
   std::optional<double> h;
   bool quiet = false;
-  std::string grid_note;  // why the default grid has more cells than 20, or empty
+  std::string grid_note;      // why the default grid has more cells than 20, or empty
+  std::string geometry_note;  // CAD domains: exact faces or their tessellation, or empty
 };
 
 /// The output grid: --grid, else solution_grid's default, over the problem's box.

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -219,7 +220,40 @@ Expr faces_selector(const Model& model, const std::vector<std::size_t>& faces) {
       const auto& tri = model.surface->triangles[t];
       triangles.push_back({tri[0], tri[1], tri[2]});
     }
-  return mesh::brep_distance(points, triangles, RSystem::r0(), RSystem::r0(), false);
+  if (!std::all_of(faces.begin(), faces.end(), [&](std::size_t f) { return model.faces[f - 1].exact_surface; }))
+    return mesh::brep_distance(points, triangles, RSystem::r0(), RSystem::r0(), false);
+
+  // Exact faces: the surface's own field, as a CSG model's named primitive,
+  // so that the solver's boundary points (on the exact surface) find their
+  // part within its selector tolerance. Where a surface also carries faces
+  // not selected, it is zero only near the selected faces' triangles
+  // (within twice the deflection).
+  std::map<const void*, std::vector<std::size_t>> selected_on, all_on;  // by surface
+  for (std::size_t f = 1; f <= model.faces.size(); ++f) {
+    const void* surface = model.faces[f - 1].exact_surface->id();
+    all_on[surface].push_back(f);
+    if (wanted.count(f)) selected_on[surface].push_back(f);
+  }
+  std::vector<Expr> terms;
+  for (const auto& [surface, on] : selected_on) {
+    const Expr& field = *model.faces[on.front() - 1].exact_surface;
+    if (on.size() == all_on[surface].size()) {
+      terms.push_back(field);
+      continue;
+    }
+    std::vector<mesh::Triangle> own;
+    for (std::size_t t = 0; t < model.surface->triangles.size(); ++t)
+      if (std::count(on.begin(), on.end(), model.triangle_faces[t])) {
+        const auto& tri = model.surface->triangles[t];
+        own.push_back({tri[0], tri[1], tri[2]});
+      }
+    const Expr near = mesh::brep_distance(points, own, RSystem::r0(), RSystem::r0(), false) - 2 * model.deflection;
+    terms.push_back(max(abs(field), near));
+  }
+  if (terms.size() == 1) return terms.front();
+  Expr selector = abs(terms.front());
+  for (std::size_t i = 1; i < terms.size(); ++i) selector = min(selector, abs(terms[i]));
+  return selector;
 }
 
 }  // namespace sage::geometry

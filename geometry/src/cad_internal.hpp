@@ -3,12 +3,15 @@
 //   read_cad_solid   cad_reader.cpp    file -> checked solid, unit, notes
 //   load_cad         cad_model.cpp     tessellation -> mesh::Soup -> Model
 //   describe_surface cad_surfaces.cpp  a face's surface type and parameters
+//   exact_csg        cad_csg.cpp       the exact field of analytic faces
 
+#include <sage/expression/triangle_surface.hpp>
 #include <sage/geometry/model.hpp>
 
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,5 +37,20 @@ CadSolid read_cad_solid(const std::string& path, const LoadOptions& options);
 /// The face's surface type and parameters (lengths divided by `scale`,
 /// the millimetres per model unit), its area and centroid.
 ModelFace describe_surface(const TopoDS_Face& face, double scale);
+
+/// The solid's exact field (cad_csg.cpp): a Boolean formula over the
+/// normalized primitives of its faces' surfaces, checked against the
+/// solid. Faces must be planes, cylinders, cones, spheres or tori.
+struct ExactCsg {
+  Expr field;
+  std::vector<Expr> face_surfaces;  // face i + 1's surface, zero on it
+  std::vector<std::string> notes;
+};
+
+/// The exact field, or nothing and `why_not`. `tessellation` (in model
+/// units, within `deflection` of the faces) supplies points near and on
+/// the faces, and point membership away from them.
+std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& tessellation, double deflection,
+                                  const RSystem& system, std::string& why_not);
 
 }  // namespace sage::geometry::cad

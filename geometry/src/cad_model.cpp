@@ -174,8 +174,17 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
   } catch (const Standard_Failure& e) {
     throw ModelError(path + ": OpenCASCADE failed: " + (e.GetMessageString() ? e.GetMessageString() : "no message"));
   }
+  // The exact field where every face is analytic (method csg, the default);
+  // the tessellation's own field otherwise.
+  std::string why_not_exact;
+  std::optional<cad::ExactCsg> exact;
+  if (options.method == "csg")
+    exact = cad::exact_csg(solid, mesh::triangle_surface(tessellation.soup),
+                           std::max(deflection, tessellation.deviation / solid.millimetres_per_unit),
+                           options.rfunction.value_or(RSystem::r0()), why_not_exact);
   LoadOptions mesh_options = options;
-  mesh_options.repair = false;  // triangle i must stay triangle i: it carries its face
+  mesh_options.repair = false;              // triangle i must stay triangle i: it carries its face
+  if (exact) mesh_options.method = "brep";  // its field is replaced; brep is the cheaper to build
   std::vector<std::uint32_t> triangle_faces(tessellation.soup.origin.begin(), tessellation.soup.origin.end());
   Model model;
   try {
@@ -187,6 +196,7 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
   model.faces = std::move(tessellation.faces);
   model.triangle_faces = std::move(triangle_faces);
   model.unit = solid.unit;
+  model.deflection = std::max(deflection, tessellation.deviation / solid.millimetres_per_unit);
 
   std::vector<std::string> notes;
   notes.push_back(solid.format + " file read with OpenCASCADE; coordinates in its unit, " + solid.unit);
@@ -207,7 +217,21 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
     << tessellation.deviation_face << ")";
   if (tessellation.dropped) t << "; " << tessellation.dropped << " triangles collapsed at degenerate edges dropped";
   notes.push_back(t.str());
-  notes.push_back("the field and the solver's cut cells follow the triangles: curved faces carry the deviation above");
+  if (exact) {
+    model.field = exact->field;
+    model.field_follows_surface = false;
+    for (std::size_t f = 0; f < model.faces.size(); ++f) model.faces[f].exact_surface = exact->face_surfaces[f];
+    std::erase_if(model.notes,
+                  [](const std::string& n) { return n.rfind("method: ", 0) == 0; });  // the replaced field's
+    notes.insert(notes.end(), exact->notes.begin(), exact->notes.end());
+    notes.push_back(
+        "the field and the solver's cut cells follow the exact faces; the triangles only select faces and "
+        "draw them");
+  } else {
+    if (options.method == "csg") notes.push_back("no exact field: " + why_not_exact);
+    notes.push_back(
+        "the field and the solver's cut cells follow the triangles: curved faces carry the deviation above");
+  }
   model.notes.insert(model.notes.begin(), notes.begin(), notes.end());
   return model;
 }

@@ -114,6 +114,9 @@ struct Soup {
 /// polygon that is not planar or cannot be triangulated).
 Soup read_mesh_soup(const std::string& path, bool repair);
 
+/// The soup's points and triangles, as the field core and the solver keep them.
+TriangleSurface triangle_surface(const Soup& soup);
+
 /// The model of a soup: validation (validate_mesh), then the field by
 /// options.method as load_mesh describes (mesh_model.cpp). CAD solids come
 /// here as their tessellation (cad_model.cpp).

@@ -112,6 +112,15 @@ void check_mesh_method(const std::string& path, const LoadOptions& options) {
 
 namespace mesh {
 
+TriangleSurface triangle_surface(const Soup& soup) {
+  TriangleSurface out;
+  for (const Point& p : soup.points) out.points.push_back({p.x(), p.y(), p.z()});
+  for (const Triangle& t : soup.triangles)
+    out.triangles.push_back(
+        {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
+  return out;
+}
+
 Model model_from_soup(Soup soup, const LoadOptions& options) {
   const std::string& path = soup.path;
   mesh::Validated valid = mesh::validate_mesh(soup, options.repair);
@@ -148,14 +157,7 @@ Model model_from_soup(Soup soup, const LoadOptions& options) {
   }
   model.notes.push_back(
       "validation (exact predicates): closed, 2-manifold, orientable, no degenerate faces, no self-intersections");
-  {
-    auto surface = std::make_shared<TriangleSurface>();
-    for (const mesh::Point& p : soup.points) surface->points.push_back({p.x(), p.y(), p.z()});
-    for (const mesh::Triangle& t : soup.triangles)
-      surface->triangles.push_back(
-          {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
-    model.surface = std::move(surface);
-  }
+  model.surface = std::make_shared<TriangleSurface>(triangle_surface(soup));
   if (valid.reversed_faces)
     model.notes.push_back("orientation fixed: " + std::to_string(valid.reversed_faces) + " of " +
                           std::to_string(soup.triangles.size()) +

@@ -52,7 +52,7 @@ class Reader : geometry::JsonFields<ProblemError> {
       fail("/deflection", "applies to CAD domains (STEP, IGES, BREP files) only");
     domain_.dimension = out_.model.dimension;
     domain_.field = out_.model.field;
-    domain_.boundary_mesh = out_.model.surface;
+    if (out_.model.field_follows_surface) domain_.boundary_mesh = out_.model.surface;
     read_bounds(top);
     if (physics == "elasticity")
       out_.physics = read_elasticity(top);

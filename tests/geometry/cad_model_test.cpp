@@ -186,7 +186,8 @@ TEST(CadModel, FaceQueries) {
   EXPECT_NE(message_of([&] { faces_matching(m, "plane normal 0 1"); }).find("needs 3 numbers"), std::string::npos);
   EXPECT_NE(message_of([&] { faces_matching(m, "plane colour red"); }).find("unknown condition"), std::string::npos);
   EXPECT_NE(message_of([&] { faces_selector(m, {8}); }).find("faces 1..7"), std::string::npos);
-  // The selector vanishes on its face's triangles and nowhere else on the surface.
+  // The selector vanishes on its face and nowhere else on the boundary:
+  // at each triangle's centroid moved onto its face's exact surface.
   const Tape tape(faces_selector(m, channel), 3);
   Evaluator<double> eval(tape);
   for (std::size_t t = 0; t < m.surface->triangles.size(); ++t) {
@@ -194,6 +195,8 @@ TEST(CadModel, FaceQueries) {
     std::array<double, 3> c{};
     for (int a = 0; a < 3; ++a)
       c[a] = (m.surface->points[tri[0]][a] + m.surface->points[tri[1]][a] + m.surface->points[tri[2]][a]) / 3;
+    ASSERT_TRUE(m.faces[m.triangle_faces[t] - 1].exact_surface);
+    c = test::onto_surface(*m.faces[m.triangle_faces[t] - 1].exact_surface, c);
     const double s = eval.at(c);
     if (m.triangle_faces[t] == channel[0])
       EXPECT_LT(std::abs(s), 1e-12) << t;

@@ -23,11 +23,7 @@
 namespace sage::problems {
 namespace {
 
-std::string write(const std::string& name, const std::string& text) {
-  const std::string p = (test::scratch_dir() / name).string();
-  std::ofstream(p) << text;
-  return p;
-}
+using test::write_scratch;
 
 std::string block_step() {
   static const std::string path = [] {
@@ -52,7 +48,7 @@ TEST(CadProblem, FacesAsPartsGiveTheLinearSolution) {
   // insulated (the side faces and the channel's facets are vertical).
   const geometry::Model model = geometry::load_model(block_step());
   const std::size_t bottom = geometry::faces_matching(model, "plane normal 0 0 -1").at(0);
-  const std::string problem = write(
+  const std::string problem = write_scratch(
       "linear.json", R"({
     "domain": ")" + block_step() +
                          R"(",
@@ -82,10 +78,10 @@ TEST(CadProblem, FacesAsPartsGiveTheLinearSolution) {
   options.cell_width = 0.125;
   const auto solution = solver::solve_poisson<3>(p, options);
   ASSERT_TRUE(solution.report.l2_error);
-  // Not to round-off: the cut cells at the channel's rims hold many facets
-  // and take lines over an unbroken base (mesh_domain.cpp), 7e-5 here. A
-  // part given the wrong condition would be off by 1e-1 or more.
-  EXPECT_LT(*solution.report.l2_error, 2e-4);
+  // To the solver's tolerance (4e-6): the field is exact (a Boolean formula of
+  // the faces' planes and cylinder), and so are the cut cells. A part
+  // given the wrong condition would be off by 1e-1 or more.
+  EXPECT_LT(*solution.report.l2_error, 1e-5) << *solution.report.l2_error;
 }
 
 TEST(CadProblem, PartsNamedAsTheFileNamesFaces) {
@@ -94,23 +90,23 @@ TEST(CadProblem, PartsNamedAsTheFileNamesFaces) {
   names[geometry::faces_matching(plain, "cylinder").at(0) - 1] = "channel";
   const std::string step = (test::scratch_dir() / "named_block.step").string();
   test::write_step(test::block_with_channel(), step, "MM", STEPControl_AsIs, names);
-  const ProblemFile file = read_problem_file(write("named.json", R"({ "domain": ")" + step + R"(",
+  const ProblemFile file = read_problem_file(write_scratch("named.json", R"({ "domain": ")" + step + R"(",
     "boundary": { "channel": { "type": "robin", "beta": 1 }, "default": { "type": "dirichlet" } } })"));
   const auto& p = std::get<solver::PoissonProblem>(file.physics);
   ASSERT_EQ(p.parts.size(), 1u);
-  // The selector vanishes on the channel (radius 0.4 about the z axis,
-  // up to the facets' deviation) and not on the outer faces, where it
-  // stays far above the solver's tolerance of 1e-6 cell widths.
+  // The selector vanishes on the channel (exactly: the solid's field is
+  // exact, and so is the channel's surface) and not on the outer faces,
+  // where it stays far above the solver's tolerance of 1e-6 cell widths.
   const Tape tape(p.parts[0].selector, 3);
   Evaluator<double> eval(tape);
-  EXPECT_LT(std::abs(eval.at({0.4, 0.0, 0.5})), 2e-3);
-  EXPECT_GT(eval.at({1.0, 0.0, 0.5}), 1e-2);
+  EXPECT_LT(std::abs(eval.at({0.4, 0.0, 0.5})), 1e-12);
+  EXPECT_GT(std::abs(eval.at({1.0, 0.0, 0.5})), 1e-2);
 }
 
 TEST(CadProblem, MistakesNameThePlace) {
   const std::string step = block_step();
   auto problem = [&](const std::string& name, const std::string& boundary, const std::string& extra = "") {
-    return write(name, R"({ "domain": ")" + step + R"(", )" + extra + R"("boundary": { )" + boundary + " } }");
+    return write_scratch(name, R"({ "domain": ")" + step + R"(", )" + extra + R"("boundary": { )" + boundary + " } }");
   };
   std::string what = error_of(problem("p1.json", R"("face:99": { "type": "dirichlet" })"));
   EXPECT_NE(what.find("/boundary/face:99"), std::string::npos) << what;
@@ -127,7 +123,7 @@ TEST(CadProblem, MistakesNameThePlace) {
   what = error_of(problem("p6.json", R"("a": { "type": "dirichlet", "faces": [7] })", R"("deflection": -1, )"));
   EXPECT_NE(what.find("/deflection"), std::string::npos) << what;
   // Faces name nothing on a CSG domain.
-  const std::string csg = write("csg.json", R"({ "domain": { "dimension": 3, "bounds": { "min": [-1, -1, -1],
+  const std::string csg = write_scratch("csg.json", R"({ "domain": { "dimension": 3, "bounds": { "min": [-1, -1, -1],
     "max": [1, 1, 1] }, "field": { "primitive": "ball", "center": [0, 0, 0], "radius": 0.5 } },
     "boundary": { "face:1": { "type": "dirichlet" } } })");
   what = error_of(csg);
@@ -140,7 +136,7 @@ TEST(CadProblem, InfoListsTheFaces) {
   EXPECT_NE(r.output.find("faces:       7"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("cylinder  radius 0.4, axis (0, 0, 1)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("STEP file read with OpenCASCADE"), std::string::npos) << r.output;
-  const auto bad = sage_cli_test::run("info " + write("bad.step", "not a step file\n"));
+  const auto bad = sage_cli_test::run("info " + write_scratch("bad.step", "not a step file\n"));
   EXPECT_EQ(bad.exit_code, 1) << bad.output;
   EXPECT_NE(bad.output.find("not a readable STEP file"), std::string::npos) << bad.output;
   // The faces for ParaView: one cell per triangle, coloured by face number.

@@ -2,6 +2,10 @@
 // CAD files for the tests, made with OpenCASCADE itself: solids built from
 // primitives and Booleans, written as STEP (in a chosen unit), IGES or BREP.
 
+#include <sage/expression/expression.hpp>
+#include <sage/tape/evaluator.hpp>
+#include <sage/tape/tape.hpp>
+
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -27,12 +31,27 @@
 #include <XSControl_TransferWriter.hxx>
 #include <XSControl_WorkSession.hxx>
 
+#include <array>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace sage::test {
+
+/// The point of the zero set of a normalized field nearest p (Newton
+/// steps): a point of an exact CAD face from one near it.
+inline std::array<double, 3> onto_surface(const Expr& surface, std::array<double, 3> p) {
+  const Tape tape(surface, 3);
+  Evaluator<Tuple<3, 1>> eval(tape);
+  for (int step = 0; step < 20; ++step) {
+    const Tuple<3, 1> t = eval.at(p);
+    const auto g = t.gradient();
+    const double g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    for (int a = 0; a < 3; ++a) p[a] -= t.value() * g[a] / g2;
+  }
+  return p;
+}
 
 /// OCCT's writers print transfer statistics to stdout: silenced once.
 inline void quiet_occt() {

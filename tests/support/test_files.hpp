@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -45,6 +46,13 @@ class ScratchDir {
 inline const std::filesystem::path& scratch_dir() {
   static const ScratchDir dir;
   return dir.path();
+}
+
+/// Writes `text` to the file `name` in the scratch folder; its path.
+inline std::string write_scratch(const std::string& name, const std::string& text) {
+  const std::string p = (scratch_dir() / name).string();
+  std::ofstream(p) << text;
+  return p;
 }
 
 }  // namespace sage::test

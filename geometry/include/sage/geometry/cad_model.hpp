@@ -48,8 +48,10 @@ std::string describe_face(const Model& model, std::size_t face);
 std::vector<std::size_t> faces_matching(const Model& model, const std::string& query);
 
 /// A selector for boundary parts (solver/problem.hpp): zero on the given
-/// faces' triangles, positive elsewhere (the trimmed-triangle distance of
-/// mesh_internal.hpp's brep_distance, over those triangles only).
+/// faces, positive elsewhere. Tessellated models: the trimmed-triangle
+/// distance of mesh_internal.hpp's brep_distance, over those faces'
+/// triangles only. Exact models: zero on each face's exact surface near
+/// its triangles.
 /// Throws std::invalid_argument for a face the model does not have.
 Expr faces_selector(const Model& model, const std::vector<std::size_t>& faces);
 

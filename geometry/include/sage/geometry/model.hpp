@@ -50,6 +50,8 @@ struct ModelFace {
   std::optional<double> radius;                 // cylinders, spheres, tori (major); cones: at `center`
   std::optional<double> minor_radius;           // tori
   std::optional<double> half_angle;             // cones, in degrees
+  /// Exact models: the face's surface as a normalized field, zero on it.
+  std::optional<Expr> exact_surface;
 };
 
 struct Model {
@@ -67,15 +69,22 @@ struct Model {
   std::map<std::string, Expr> named;  // named nodes, by name
   std::vector<PrimitiveInfo> primitives;
   /// Meshes: the validated, outward-oriented triangles (the solver
-  /// integrates cut cells from them instead of from the field).
+  /// integrates cut cells from them instead of from the field, when
+  /// `field_follows_surface`). CAD solids: their tessellation.
   std::shared_ptr<const TriangleSurface> surface;
+  /// False when the field is exact and `surface` only approximates its
+  /// zero set (CAD solids of analytic faces): cut cells then follow the
+  /// field, and the triangles serve face selectors and pictures.
+  bool field_follows_surface = true;
   /// CAD solids: faces 1..N (faces[i] is face i + 1, numbered as OCCT's
   /// TopExp::MapShapes and FreeCAD's FaceN), and the face each of the
   /// surface's triangles belongs to.
   std::vector<ModelFace> faces;
   std::vector<std::uint32_t> triangle_faces;
-  /// CAD solids: the length unit of the coordinates ("millimetre", ...).
+  /// CAD solids: the length unit of the coordinates ("millimetre", ...),
+  /// and how far the tessellation may lie from the exact faces.
   std::string unit;
+  double deflection = 0;
   /// Facts for `sage info` and the field summary: projection used,
   /// validation findings and repairs, well-formedness certificate, ...
   std::vector<std::string> notes;
