@@ -5,8 +5,10 @@ target_sources(sage_geometry PRIVATE src/cad_faces.cpp)
 if(SAGE_WITH_CAD)
   target_sources(sage_geometry PRIVATE
     src/cad_csg.cpp
+    src/cad_literals.cpp
     src/cad_model.cpp
     src/cad_reader.cpp
+    src/cad_samples.cpp
     src/cad_surfaces.cpp
     src/sign_cover.cpp)
   # OCCT 7.6's targets carry no include directories.

@@ -48,9 +48,11 @@ struct ExactCsg {
 };
 
 /// The exact field, or nothing and `why_not`. `tessellation` (in model
-/// units, within `deflection` of the faces) supplies points near and on
-/// the faces, and point membership away from them.
-std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& tessellation, double deflection,
+/// units, within `deflection` of the faces; triangle i on face
+/// triangle_faces[i], from 1) supplies points near and on the faces, and
+/// point membership away from the curved ones.
+std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& tessellation,
+                                  const std::vector<std::size_t>& triangle_faces, double deflection,
                                   const RSystem& system, std::string& why_not);
 
 }  // namespace sage::geometry::cad

@@ -179,7 +179,7 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
   std::string why_not_exact;
   std::optional<cad::ExactCsg> exact;
   if (options.method == "csg")
-    exact = cad::exact_csg(solid, mesh::triangle_surface(tessellation.soup),
+    exact = cad::exact_csg(solid, mesh::triangle_surface(tessellation.soup), tessellation.soup.origin,
                            std::max(deflection, tessellation.deviation / solid.millimetres_per_unit),
                            options.rfunction.value_or(RSystem::r0()), why_not_exact);
   LoadOptions mesh_options = options;

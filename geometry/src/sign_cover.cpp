@@ -32,7 +32,8 @@ std::vector<SignTerm> prime_terms(const std::vector<SignVector>& inside, const s
   for (const SignVector& v : inside)
     for (const auto& order : drop_orders) {
       SignTerm term{all, v};
-      if (covers_any(term, outside)) throw std::invalid_argument("prime_terms: a sign vector is both inside and outside");
+      if (covers_any(term, outside))
+        throw std::invalid_argument("prime_terms: a sign vector is both inside and outside");
       for (std::size_t l : order) {
         clear(term.mask, l);
         if (covers_any(term, outside)) set(term.mask, l);

@@ -65,7 +65,8 @@ TEST(CadExactSolve, StepBlockAsAccurateAsItsCsgAtDegree3) {
       { "name": "channel", "primitive": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 1], "radius": 0.4 } ] } },
     )") + kExact + R"(,
     "boundary": {
-      "left": { )" + d + R"( }, "right": { )" + d + R"( }, "top": { )" + d + R"( },
+      "left": { )" + d + R"( }, "right": { )" + d + R"( }, "top": { )" +
+                                                                   d + R"( },
       "bottom": { )" + d + R"( }, "channel": { )" + d + R"( },
       "front": { "type": "neumann", )" + kMinusFlux + R"( },
       "back": { "type": "neumann", )" + kFlux + R"( } } })");
@@ -89,7 +90,8 @@ TEST(CadExactSolve, SphericalShellConvergesAtTheOptimalRate) {
                        .Shape(),
                    step);
   const std::string problem = write_scratch("shell.json", std::string(R"({ "domain": ")") + step + R"(",
-    "bounds": { "min": [-1, -1, -1], "max": [1, 1, 1] }, )" + kExact + R"(,
+    "bounds": { "min": [-1, -1, -1], "max": [1, 1, 1] }, )" + kExact +
+                                                              R"(,
     "boundary": {
       "outer": { "type": "dirichlet", "value": "exp(x)*sin(y) + z^2", "faces": "sphere radius 1" },
       "inner": { "type": "neumann", "faces": "sphere radius 0.5",
