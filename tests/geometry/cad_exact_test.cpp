@@ -28,6 +28,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <random>
 #include <variant>
 
@@ -46,24 +47,26 @@ bool has_note(const Model& m, const std::string& text) {
 /// a union whose terms would touch along the plane x = 1 if the formula
 /// were split there, and a fillet whose cylinder is material near the
 /// corner and air far from it (separating planes needed).
-TopoDS_Shape filleted_l() {
-  const TopoDS_Shape base = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 2, 1).Shape();
-  const TopoDS_Shape wall = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 1, 2, 3).Shape();
-  BRepAlgoAPI_Fuse fuse(base, wall);
+/// The union of a and b with the edges whose midpoint `picks` filleted.
+TopoDS_Shape fused_and_filleted(const TopoDS_Shape& a, const TopoDS_Shape& b, double radius,
+                                const std::function<bool(const gp_Pnt&)>& picks) {
+  BRepAlgoAPI_Fuse fuse(a, b);
   fuse.SimplifyResult();
-  const TopoDS_Shape l = fuse.Shape();
-  BRepFilletAPI_MakeFillet fillet(l);
-  for (TopExp_Explorer e(l, TopAbs_EDGE); e.More(); e.Next()) {
+  const TopoDS_Shape joined = fuse.Shape();
+  BRepFilletAPI_MakeFillet fillet(joined);
+  for (TopExp_Explorer e(joined, TopAbs_EDGE); e.More(); e.Next()) {
     Standard_Real first, last;
-    const TopoDS_Edge& edge = TopoDS::Edge(e.Current());
-    const Handle(Geom_Curve) curve = BRep_Tool::Curve(edge, first, last);
-    const gp_Pnt a = curve->Value(first), b = curve->Value(last);
-    // The inner edge: along y at x = 1, z = 1.
-    if (std::abs(a.X() - 1) < 1e-9 && std::abs(b.X() - 1) < 1e-9 && std::abs(a.Z() - 1) < 1e-9 &&
-        std::abs(b.Z() - 1) < 1e-9)
-      fillet.Add(0.4, edge);
+    const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(e.Current()), first, last);
+    if (picks(curve->Value(0.5 * (first + last)))) fillet.Add(radius, TopoDS::Edge(e.Current()));
   }
-  const TopoDS_Shape rounded = fillet.Shape();
+  return fillet.Shape();
+}
+
+TopoDS_Shape filleted_l() {
+  // The inner edge, along y at x = 1, z = 1.
+  const TopoDS_Shape rounded = fused_and_filleted(
+      BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 4, 2, 1).Shape(), BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 1, 2, 3).Shape(), 0.4,
+      [](const gp_Pnt& q) { return std::abs(q.X() - 1) < 1e-9 && std::abs(q.Z() - 1) < 1e-9; });
   const TopoDS_Shape hole = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(2.8, 1, -1), gp_Dir(0, 0, 1)), 0.3, 3).Shape();
   return BRepAlgoAPI_Cut(rounded, hole).Shape();
 }
@@ -73,20 +76,11 @@ TopoDS_Shape filleted_l() {
 /// the plane of the tube's centre circle), a hole through it countersunk
 /// by a cone.
 TopoDS_Shape filleted_boss() {
-  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, 0), 40, 40, 5).Shape();
-  const TopoDS_Shape boss = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 5), gp_Dir(0, 0, 1)), 8, 10).Shape();
-  BRepAlgoAPI_Fuse fuse(plate, boss);
-  fuse.SimplifyResult();
-  const TopoDS_Shape joined = fuse.Shape();
-  BRepFilletAPI_MakeFillet fillet(joined);
-  for (TopExp_Explorer e(joined, TopAbs_EDGE); e.More(); e.Next()) {
-    Standard_Real first, last;
-    const Handle(Geom_Curve) curve = BRep_Tool::Curve(TopoDS::Edge(e.Current()), first, last);
-    const gp_Pnt q = curve->Value(0.5 * (first + last));
-    if (std::abs(q.Z() - 5) < 1e-9 && std::abs(std::hypot(q.X(), q.Y()) - 8) < 1e-6)
-      fillet.Add(2.0, TopoDS::Edge(e.Current()));
-  }
-  TopoDS_Shape part = fillet.Shape();
+  // The boss's base circle, radius 8 at z = 5.
+  TopoDS_Shape part = fused_and_filleted(
+      BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, 0), 40, 40, 5).Shape(),
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 5), gp_Dir(0, 0, 1)), 8, 10).Shape(), 2.0,
+      [](const gp_Pnt& q) { return std::abs(q.Z() - 5) < 1e-9 && std::abs(std::hypot(q.X(), q.Y()) - 8) < 1e-6; });
   part =
       BRepAlgoAPI_Cut(part, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp_Dir(0, 0, 1)), 3, 20).Shape()).Shape();
   return BRepAlgoAPI_Cut(part, BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0, 0, 12), gp_Dir(0, 0, 1)), 3, 6, 3).Shape())
