@@ -156,6 +156,7 @@ py::list faces_of(const PyModel& self) {
     d["number"] = i + 1;
     d["surface"] = f.surface;
     d["name"] = f.name;
+    d["colour"] = f.colour;
     d["area"] = f.area;
     d["centroid"] = py::make_tuple(f.centroid[0], f.centroid[1], f.centroid[2]);
     for (const auto& [key, v] : {std::pair{"normal", &f.normal}, {"axis", &f.axis}, {"center", &f.center}})
@@ -183,11 +184,12 @@ void bind_models(py::module_& m) {
           "the coordinate reference system of the field's plane, as WKT ('' when none)")
       .def_property_readonly("notes", [](const PyModel& p) { return p.model.notes; })
       .def_property_readonly("warnings", [](const PyModel& p) { return p.model.warnings; })
-      .def_property_readonly("faces", &faces_of,
-                             "CAD solids: the faces, numbered from 1 (face 1 is faces[0]), as dicts with 'number',\n"
-                             "'surface' (plane, cylinder, ...), 'name' (the file's, or ''), 'area', 'centroid' and,\n"
-                             "where the surface has them, 'normal', 'axis', 'center', 'radius', 'minor_radius',\n"
-                             "'half_angle' (degrees); [] for other models")
+      .def_property_readonly(
+          "faces", &faces_of,
+          "CAD solids: the faces, numbered from 1 (face 1 is faces[0]), as dicts with 'number',\n"
+          "'surface' (plane, cylinder, ...), 'name' and 'colour' (the file's, or ''), 'area', 'centroid' and,\n"
+          "where the surface has them, 'normal', 'axis', 'center', 'radius', 'minor_radius',\n"
+          "'half_angle' (degrees); [] for other models")
       .def_property_readonly(
           "unit", [](const PyModel& p) { return p.model.unit; },
           "CAD solids: the length unit of the coordinates ('millimetre', ...); '' otherwise")

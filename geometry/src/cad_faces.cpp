@@ -55,7 +55,15 @@ struct Condition {
   std::string key;
   std::vector<double> values;
   std::string text;
+  std::string colour;  // "colour #rrggbb", in lower case
 };
+
+bool is_colour(const std::string& key) { return key == "colour" || key == "color"; }
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
 
 std::vector<std::string> words(const std::string& query) {
   std::istringstream in(query);
@@ -86,6 +94,7 @@ bool same_direction(const std::array<double, 3>& a, const std::vector<double>& b
 
 bool meets(const ModelFace& f, const Condition& c, double length_tolerance) {
   auto close = [&](double a, double b) { return std::abs(a - b) <= length_tolerance; };
+  if (is_colour(c.key)) return f.colour == c.colour;
   if (c.key == "radius") return f.radius && close(*f.radius, c.values[0]);
   if (c.key == "normal") return f.normal && same_direction(*f.normal, c.values, false);
   if (c.key == "axis") return f.axis && same_direction(*f.axis, c.values, true);
@@ -102,6 +111,7 @@ std::string values_present(const Model& model, const std::string& type, const st
   for (const ModelFace& f : model.faces) {
     if (type != "any" && f.surface != type) continue;
     std::ostringstream s;
+    if (is_colour(key)) s << f.colour;
     if (key == "radius" && f.radius) s << *f.radius;
     if (key == "normal" && f.normal) s << vec(*f.normal);
     if (key == "axis" && f.axis) s << vec(*f.axis);
@@ -137,6 +147,7 @@ std::string describe_face(const Model& model, std::size_t face) {
   std::ostringstream s;
   s << face << "  " << f.surface;
   if (!f.name.empty()) s << " \"" << f.name << "\"";
+  if (!f.colour.empty()) s << "  colour " << f.colour;
   if (f.normal) s << "  normal " << vec(*f.normal);
   if (f.surface == "sphere" && f.radius) s << "  radius " << *f.radius << ", centre " << at(*f.center);
   if (f.surface == "torus" && f.radius)
@@ -166,13 +177,24 @@ std::vector<std::size_t> faces_matching(const Model& model, const std::string& q
   const std::string type = w[0];
   std::vector<Condition> conditions;
   for (std::size_t i = 1; i < w.size();) {
-    Condition c{w[i], {}, w[i]};
+    Condition c{w[i], {}, w[i], {}};
+    if (is_colour(c.key)) {
+      const std::string colour = i + 1 < w.size() ? lower(w[i + 1]) : "";
+      if (colour.size() != 7 || colour[0] != '#' ||
+          !std::all_of(colour.begin() + 1, colour.end(), [](unsigned char x) { return std::isxdigit(x); }))
+        throw std::invalid_argument("face query '" + query + "': '" + c.key + "' needs a colour as #rrggbb");
+      c.colour = colour;
+      c.text += " " + colour;
+      conditions.push_back(c);
+      i += 2;
+      continue;
+    }
     const std::size_t arity = c.key == "radius"                                             ? 1
                               : (c.key == "normal" || c.key == "axis" || c.key == "center") ? 3
                                                                                             : 0;
     if (arity == 0)
       throw std::invalid_argument("face query '" + query + "': unknown condition '" + c.key +
-                                  "' (use radius R, normal X Y Z, axis X Y Z or center X Y Z)");
+                                  "' (use radius R, normal X Y Z, axis X Y Z, center X Y Z or colour #rrggbb)");
     if (i + arity >= w.size())
       throw std::invalid_argument("face query '" + query + "': '" + c.key + "' needs " + std::to_string(arity) +
                                   (arity == 1 ? " number" : " numbers"));

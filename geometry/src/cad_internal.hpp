@@ -28,6 +28,9 @@ struct CadSolid {
   /// Faces the file names (STEP's ADVANCED_FACE names), as read; faces
   /// that repair or union rebuilt lose theirs.
   std::vector<std::pair<TopoDS_Shape, std::string>> face_names;
+  /// Colours the file gives faces ("#rrggbb"), from styles on the faces or
+  /// on a solid or shell holding them; a later entry for a face wins.
+  std::vector<std::pair<TopoDS_Shape, std::string>> face_colours;
 };
 
 /// Reads, checks and selects (options.solid) or unites the solids of a

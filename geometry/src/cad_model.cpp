@@ -87,10 +87,11 @@ struct Tessellation {
   std::size_t dropped = 0;  // triangles with two corners welded into one
 };
 
-/// The file's name for a face, if it has one.
-std::string name_of(const TopoDS_Shape& face, const CadSolid& solid) {
-  for (const auto& [named, name] : solid.face_names)
-    if (named.IsSame(face)) return name;
+/// What the file gives a face (its name, its colour), if anything: the
+/// last entry for it.
+std::string given_to(const TopoDS_Shape& face, const std::vector<std::pair<TopoDS_Shape, std::string>>& given) {
+  for (auto it = given.rbegin(); it != given.rend(); ++it)
+    if (it->first.IsSame(face)) return it->second;
   return {};
 }
 
@@ -110,7 +111,8 @@ Tessellation tessellate(const std::string& path, const CadSolid& solid, double d
   for (int f = 1; f <= faces.Extent(); ++f) {
     const TopoDS_Face& face = TopoDS::Face(faces(f));
     out.faces.push_back(describe_surface(face, scale));
-    out.faces.back().name = name_of(face, solid);
+    out.faces.back().name = given_to(face, solid.face_names);
+    out.faces.back().colour = given_to(face, solid.face_colours);
     TopLoc_Location location;
     const Handle(Poly_Triangulation) triangulation = BRep_Tool::Triangulation(face, location);
     if (triangulation.IsNull() || triangulation->NbTriangles() == 0)
@@ -208,6 +210,11 @@ Model load_cad(const std::string& path, const LoadOptions& options) {
     notes.push_back("face names: " + std::to_string(named) + " of " + std::to_string(model.faces.size()) +
                     " faces named in the file" +
                     (named < solid.face_names.size() ? " (faces rebuilt by repair or union lost theirs)" : ""));
+  const std::size_t coloured = static_cast<std::size_t>(
+      std::count_if(model.faces.begin(), model.faces.end(), [](const ModelFace& f) { return !f.colour.empty(); }));
+  if (!solid.face_colours.empty())
+    notes.push_back("face colours: " + std::to_string(coloured) + " of " + std::to_string(model.faces.size()) +
+                    " faces coloured in the file (a query's \"colour #rrggbb\" picks them)");
   std::ostringstream t;
   t << "tessellation (BRepMesh): chordal deflection " << deflection << " " << solid.unit
     << (options.deflection ? " (--deflection)"

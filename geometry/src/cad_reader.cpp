@@ -16,24 +16,32 @@
 #include <IGESData_GlobalSection.hxx>
 #include <IGESData_IGESModel.hxx>
 #include <Interface_Static.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPConstruct_Styles.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeFix_Shape.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <Standard_Failure.hxx>
 #include <StepRepr_RepresentationItem.hxx>
+#include <StepVisual_Colour.hxx>
+#include <StepVisual_StyledItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Shell.hxx>
+#include <TransferBRep.hxx>
+#include <Transfer_TransientProcess.hxx>
 #include <XSControl_TransferReader.hxx>
 #include <XSControl_WorkSession.hxx>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
 
 namespace sage::geometry::cad {
@@ -74,6 +82,40 @@ std::mutex& exchange_mutex() {
   return m;
 }
 
+std::string hex(const Quantity_Color& colour) {
+  double rgb[3];
+  colour.Values(rgb[0], rgb[1], rgb[2], Quantity_TOC_RGB);  // the file's values (STEPConstruct_Styles::DecodeColor)
+  char text[8];
+  std::snprintf(text, sizeof text, "#%02x%02x%02x", static_cast<int>(std::lround(255 * rgb[0])),
+                static_cast<int>(std::lround(255 * rgb[1])), static_cast<int>(std::lround(255 * rgb[2])));
+  return text;
+}
+
+/// The surface colours of STEP's styled items (what STEPCAFControl_Reader
+/// reads into XCAF), given to the faces of the shapes they style: a
+/// solid's or shell's first, then the faces' own, which win.
+void read_step_colours(STEPControl_Reader& reader, CadSolid& out) {
+  STEPConstruct_Styles styles(reader.WS());
+  if (!styles.LoadStyles()) return;
+  const Handle(Transfer_TransientProcess) process = reader.WS()->TransferReader()->TransientProcess();
+  std::vector<std::pair<TopoDS_Shape, std::string>> on_faces;
+  for (int i = 1; i <= styles.NbStyles(); ++i) {
+    const Handle(StepVisual_StyledItem) style = styles.Style(i);
+    Handle(StepVisual_Colour) surface, boundary, curve, render;
+    Standard_Real transparency = 0;
+    Standard_Boolean component = false;
+    if (!styles.GetColors(style, surface, boundary, curve, render, transparency, component)) continue;
+    const Handle(StepVisual_Colour)& chosen = surface.IsNull() ? render : surface;
+    Quantity_Color colour;
+    if (chosen.IsNull() || !STEPConstruct_Styles::DecodeColor(chosen, colour)) continue;
+    const TopoDS_Shape styled = TransferBRep::ShapeResult(process, process->Find(style->ItemAP242().Value()));
+    if (styled.IsNull()) continue;
+    auto& into = styled.ShapeType() == TopAbs_FACE ? on_faces : out.face_colours;
+    for (TopExp_Explorer e(styled, TopAbs_FACE); e.More(); e.Next()) into.emplace_back(e.Current(), hex(colour));
+  }
+  out.face_colours.insert(out.face_colours.end(), on_faces.begin(), on_faces.end());
+}
+
 TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
   std::lock_guard<std::mutex> lock(exchange_mutex());
   STEPControl_Reader reader;
@@ -96,8 +138,20 @@ TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
   }
   if (reader.NbRootsForTransfer() == 0) fail(path, "no shape to transfer: the STEP file holds no geometry entity");
   reader.TransferRoots();
+  // Root entities that gave no shape, by STEP type (StepShape_... -> the class name).
+  std::map<std::string, int> unread;
+  const Handle(XSControl_TransferReader) results = reader.WS()->TransferReader();
+  for (int i = 1; i <= reader.NbRootsForTransfer(); ++i) {
+    const Handle(Standard_Transient) root = reader.RootForTransfer(i);
+    if (!root.IsNull() && !results->HasResult(root)) ++unread[root->DynamicType()->Name()];
+  }
+  std::string unread_list;
+  for (const auto& [type, n] : unread)
+    unread_list += (unread_list.empty() ? "" : ", ") + type + (n > 1 ? " (" + std::to_string(n) + ")" : "");
   if (reader.NbShapes() == 0)
-    fail(path, "no shape transferred: the STEP file's entities are not ones OpenCASCADE reads as geometry");
+    fail(path, "no shape transferred: the STEP file's entities are not ones OpenCASCADE reads as geometry" +
+                   (unread_list.empty() ? std::string() : " (" + unread_list + ")"));
+  if (!unread.empty()) out.notes.push_back("entities not read (OpenCASCADE gave no shape for them): " + unread_list);
   const TopoDS_Shape shape = reader.OneShape();
   // The names of the STEP entities the faces came from.
   const Handle(XSControl_TransferReader) transfer = reader.WS()->TransferReader();
@@ -108,6 +162,7 @@ TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
     const std::string name = item->Name()->ToCString();
     if (!name.empty() && name != "NONE") out.face_names.emplace_back(e.Current(), name);
   }
+  read_step_colours(reader, out);
   return shape;
 }
 

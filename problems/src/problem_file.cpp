@@ -46,6 +46,7 @@ class Reader : geometry::JsonFields<ProblemError> {
       if (!(deflection > 0))
         fail("/deflection", "expected a positive length (the CAD tessellation's chordal deflection)");
       domain_options_.deflection = deflection;
+      out_.deflection = deflection;
     }
     read_domain(top["domain"]);
     if (top.contains("deflection") && out_.model.faces.empty())

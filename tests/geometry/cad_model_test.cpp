@@ -184,7 +184,7 @@ TEST(CadModel, FaceQueries) {
   EXPECT_NE(message_of([&] { faces_matching(m, "cylinder radius 3"); }).find("radius: 0.4"), std::string::npos);
   EXPECT_NE(message_of([&] { faces_matching(m, "disk"); }).find("start with a surface type"), std::string::npos);
   EXPECT_NE(message_of([&] { faces_matching(m, "plane normal 0 1"); }).find("needs 3 numbers"), std::string::npos);
-  EXPECT_NE(message_of([&] { faces_matching(m, "plane colour red"); }).find("unknown condition"), std::string::npos);
+  EXPECT_NE(message_of([&] { faces_matching(m, "plane shade red"); }).find("unknown condition"), std::string::npos);
   EXPECT_NE(message_of([&] { faces_selector(m, {8}); }).find("faces 1..7"), std::string::npos);
   // The selector vanishes on its face and nowhere else on the boundary:
   // at each triangle's centroid moved onto its face's exact surface.
@@ -223,6 +223,30 @@ TEST(CadModel, FaceNamesFromTheFile) {
   EXPECT_NE(describe_face(m, top).find("\"lid\""), std::string::npos);
   bool noted = false;
   for (const std::string& note : m.notes) noted = noted || note.find("2 of 7 faces named") != std::string::npos;
+  EXPECT_TRUE(noted);
+}
+
+TEST(CadModel, FaceColoursFromTheFile) {
+  // The block grey, its channel red: the solid's colour goes to every
+  // face, the channel's own wins on it.
+  const Model plain = load_model(block_step());
+  const int channel = static_cast<int>(faces_matching(plain, "cylinder").at(0));
+  const std::string path = path_of("coloured.step");
+  test::write_coloured_step(test::block_with_channel(), path, std::array<double, 3>{0.5, 0.5, 0.5},
+                            {{channel, {1.0, 0.0, 0.0}}});
+  const Model m = load_model(path);
+  ASSERT_EQ(m.faces.size(), plain.faces.size());
+  for (std::size_t f = 1; f <= m.faces.size(); ++f)
+    EXPECT_EQ(m.faces[f - 1].colour, static_cast<int>(f) == channel ? "#ff0000" : "#808080") << f;
+  EXPECT_EQ(faces_matching(m, "any colour #FF0000"), std::vector<std::size_t>{static_cast<std::size_t>(channel)});
+  EXPECT_EQ(faces_matching(m, "plane colour #808080").size(), 6u);
+  EXPECT_NE(describe_face(m, static_cast<std::size_t>(channel)).find("colour #ff0000"), std::string::npos);
+  EXPECT_NE(message_of([&] { faces_matching(m, "any colour #00ff00"); }).find("their colours: #808080, #ff0000"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { faces_matching(m, "any colour red"); }).find("needs a colour as #rrggbb"),
+            std::string::npos);
+  bool noted = false;
+  for (const std::string& n : m.notes) noted = noted || n.find("7 of 7 faces coloured") != std::string::npos;
   EXPECT_TRUE(noted);
 }
 

@@ -200,12 +200,17 @@ class CadTest(unittest.TestCase):
         bolts = [f for f in faces if f["surface"] == "cylinder" and abs(f["radius"] - 4) < 1e-9]
         self.assertEqual(len(bolts), 2)
         self.assertAlmostEqual(bolts[0]["area"], 2 * math.pi * 4 * 8, places=6)
+        self.assertEqual(bolts[0]["colour"], "")  # the bracket's file gives no colours
         info = subprocess.run([SAGE, "info", BRACKET_STEP], capture_output=True, text=True, check=True).stdout
         self.assertIn("%d  cylinder  radius 4" % bolts[0]["number"], info)
         omega = bracket.evaluate(np.array([[40.0, 20.0, 4.0], [45.0, 20.0, 4.0], [40.0, 20.0, 30.0]]), order=0)["omega"]
         self.assertGreater(omega[0], 0.0)  # in the base
         self.assertLess(omega[1], 0.0)  # in a bolt hole
         self.assertLess(omega[2], 0.0)  # above the base, beside the upright
+        # The field is exact on the faces: zero on a bolt hole's cylinder (radius 4 about x = 45, y = 20).
+        on_hole = bracket.evaluate(np.array([[45.0 + 4.0 * math.cos(0.3), 20.0 + 4.0 * math.sin(0.3), 4.0]]), order=0)
+        self.assertLess(abs(on_hole["omega"][0]), 1e-12)
+        self.assertTrue(any(n.startswith("exact field") for n in bracket.notes))
         coarse = sage.load(BRACKET_STEP, deflection=0.5)
         self.assertTrue(any("chordal deflection 0.5 millimetre" in n for n in coarse.notes))
         with self.assertRaises(ValueError):

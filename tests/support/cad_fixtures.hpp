@@ -18,21 +18,29 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_PrinterOStream.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
 #include <StepShape_AdvancedFace.hxx>
 #include <TCollection_HAsciiString.hxx>
+#include <TDocStd_Document.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TransferBRep.hxx>
 #include <TransferBRep_ShapeMapper.hxx>
 #include <Transfer_FinderProcess.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_ColorTool.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
 #include <XSControl_TransferWriter.hxx>
 #include <XSControl_WorkSession.hxx>
 
 #include <array>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -68,6 +76,33 @@ inline TopoDS_Shape block_with_channel() {
   const TopoDS_Shape channel =
       BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -1), gp_Dir(0, 0, 1), gp_Dir(0.8, 0.6, 0)), 0.4, 3).Shape();
   return BRepAlgoAPI_Cut(box, channel).Shape();
+}
+
+/// `shape` written through an XCAF document with colours: the whole shape's
+/// (`solid`, unless empty) and faces' own (`faces`: face number from 1, as
+/// TopExp::MapShapes counts them, and its RGB in 0..1).
+inline void write_coloured_step(const TopoDS_Shape& shape, const std::string& path,
+                                const std::optional<std::array<double, 3>>& solid,
+                                const std::vector<std::pair<int, std::array<double, 3>>>& faces) {
+  quiet_occt();
+  Handle(TDocStd_Document) doc;
+  XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+  const Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+  const Handle(XCAFDoc_ColorTool) colours = XCAFDoc_DocumentTool::ColorTool(doc->Main());
+  const TDF_Label label = shapes->AddShape(shape, false);
+  const auto rgb = [](const std::array<double, 3>& c) { return Quantity_Color(c[0], c[1], c[2], Quantity_TOC_RGB); };
+  if (solid) colours->SetColor(label, rgb(*solid), XCAFDoc_ColorSurf);
+  TopTools_IndexedMapOfShape map;
+  TopExp::MapShapes(shape, TopAbs_FACE, map);
+  for (const auto& [face, colour] : faces) {
+    const TDF_Label sub = shapes->AddSubShape(label, map(face));
+    if (sub.IsNull()) throw std::runtime_error("face " + std::to_string(face) + " is not a sub-shape");
+    colours->SetColor(sub, rgb(colour), XCAFDoc_ColorSurf);
+  }
+  STEPCAFControl_Writer writer;
+  writer.SetColorMode(true);
+  if (!writer.Transfer(doc, STEPControl_AsIs) || writer.Write(path.c_str()) != IFSelect_RetDone)
+    throw std::runtime_error("cannot write " + path);
 }
 
 /// `unit` as OCCT's STEP writer names it: "MM", "M", "INCH", "FT", ...;

@@ -41,7 +41,8 @@ std::string describe_face(const Model& model, std::size_t face);
 /// from the file, or a query of a surface type (plane, cylinder, cone,
 /// sphere, torus, bspline, ..., or "any") followed by any of
 /// "radius R", "normal X Y Z", "axis X Y Z" (either sense), "center X Y Z"
-/// and "name N": "cylinder radius 4", "plane normal 0 0 1". Lengths match
+/// and "colour #rrggbb": "cylinder radius 4", "plane normal 0 0 1",
+/// "any colour #ff0000". Lengths match
 /// within 1e-6 of the model's size, directions within 1e-6 radians.
 /// Throws std::invalid_argument saying what matched nothing, with the
 /// values the model has.

@@ -42,6 +42,7 @@ struct PrimitiveInfo {
 struct ModelFace {
   std::string surface;  // plane, cylinder, cone, sphere, torus, bspline, bezier, revolution, extrusion, offset, other
   std::string name;     // the file's name for the face, empty when none
+  std::string colour;   // the file's colour for the face ("#rrggbb", STEP styles), empty when none
   double area = 0;
   std::array<double, 3> centroid{0, 0, 0};
   std::optional<std::array<double, 3>> normal;  // planes: the outward normal

@@ -32,6 +32,7 @@ struct ProblemFile {
   Physics physics;
   std::string exact_formula;                // empty when none
   std::optional<solver::RobinRoute> robin;  // "robin": "weak" | "structure"; --robin overrides
+  std::optional<double> deflection;         // "deflection": a CAD domain's, as the file gives it
 
   /// The domain (from the model and "bounds"), as the physics holds it.
   const solver::ProblemDomain& domain() const {
