@@ -31,6 +31,8 @@ struct CadSolid {
   /// Colours the file gives faces ("#rrggbb"), from styles on the faces or
   /// on a solid or shell holding them; a later entry for a face wins.
   std::vector<std::pair<TopoDS_Shape, std::string>> face_colours;
+  /// Solids the file names (STEP's MANIFOLD_SOLID_BREP names).
+  std::vector<std::pair<TopoDS_Shape, std::string>> solid_names;
 };
 
 /// Reads, checks and selects (options.solid) or unites the solids of a

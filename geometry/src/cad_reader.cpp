@@ -22,7 +22,9 @@
 #include <ShapeFix_Shape.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <Standard_Failure.hxx>
+#include <StepData_StepModel.hxx>
 #include <StepRepr_RepresentationItem.hxx>
+#include <StepShape_ManifoldSolidBrep.hxx>
 #include <StepVisual_Colour.hxx>
 #include <StepVisual_StyledItem.hxx>
 #include <TColStd_SequenceOfAsciiString.hxx>
@@ -80,6 +82,14 @@ std::optional<double> millimetres_per(const std::string& name) {
 std::mutex& exchange_mutex() {
   static std::mutex m;
   return m;
+}
+
+/// A STEP representation item's name; empty when it has none.
+std::string name_of(const Handle(Standard_Transient) & entity) {
+  const Handle(StepRepr_RepresentationItem) item = Handle(StepRepr_RepresentationItem)::DownCast(entity);
+  if (item.IsNull() || item->Name().IsNull()) return {};
+  const std::string name = item->Name()->ToCString();
+  return name == "NONE" ? std::string() : name;
 }
 
 std::string hex(const Quantity_Color& colour) {
@@ -153,14 +163,18 @@ TopoDS_Shape read_step(const std::string& path, CadSolid& out) {
                    (unread_list.empty() ? std::string() : " (" + unread_list + ")"));
   if (!unread.empty()) out.notes.push_back("entities not read (OpenCASCADE gave no shape for them): " + unread_list);
   const TopoDS_Shape shape = reader.OneShape();
-  // The names of the STEP entities the faces came from.
+  // The names of the STEP entities the faces and solids came from.
   const Handle(XSControl_TransferReader) transfer = reader.WS()->TransferReader();
-  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) {
-    const Handle(StepRepr_RepresentationItem) item =
-        Handle(StepRepr_RepresentationItem)::DownCast(transfer->EntityFromShapeResult(e.Current(), 1));
-    if (item.IsNull() || item->Name().IsNull()) continue;
-    const std::string name = item->Name()->ToCString();
-    if (!name.empty() && name != "NONE") out.face_names.emplace_back(e.Current(), name);
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next())
+    if (const std::string name = name_of(transfer->EntityFromShapeResult(e.Current(), 1)); !name.empty())
+      out.face_names.emplace_back(e.Current(), name);
+  const Handle(Transfer_TransientProcess) process = transfer->TransientProcess();
+  for (int i = 1; i <= reader.Model()->NbEntities(); ++i) {
+    const Handle(Standard_Transient) entity = reader.Model()->Value(i);
+    if (!entity->IsKind(STANDARD_TYPE(StepShape_ManifoldSolidBrep))) continue;
+    const TopoDS_Shape solid = TransferBRep::ShapeResult(process, process->Find(entity));
+    if (const std::string name = name_of(entity); !solid.IsNull() && !name.empty())
+      out.solid_names.emplace_back(solid, name);
   }
   read_step_colours(reader, out);
   return shape;
@@ -247,6 +261,19 @@ std::vector<TopoDS_Shape> sew_into_solids(const std::string& path, const TopoDS_
   return solids;
 }
 
+/// ": 1 \"pin\", 2 (unnamed)" when the file names any of the solids.
+std::string solid_list(const std::vector<TopoDS_Shape>& solids, const CadSolid& out) {
+  if (out.solid_names.empty()) return {};
+  std::string list;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    std::string name = "(unnamed)";
+    for (const auto& [named, given] : out.solid_names)
+      if (named.IsPartner(solids[i])) name = "\"" + given + "\"";  // the same solid, maybe placed elsewhere
+    list += (i ? ", " : ": ") + std::to_string(i + 1) + " " + name;
+  }
+  return list;
+}
+
 /// The solid, checked; repaired with ShapeFix when the check fails.
 TopoDS_Shape checked(const std::string& path, const TopoDS_Shape& solid, std::size_t index, CadSolid& out) {
   if (BRepCheck_Analyzer(solid).IsValid()) return solid;
@@ -280,14 +307,15 @@ CadSolid read_cad_solid(const std::string& path, const LoadOptions& options) {
     std::vector<TopoDS_Shape> solids;
     for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) solids.push_back(e.Current());
     if (solids.empty()) solids = sew_into_solids(path, shape, out);
+    const std::string listed = solid_list(solids, out);
     if (options.solid) {
       if (*options.solid < 1 || static_cast<std::size_t>(*options.solid) > solids.size())
         fail(path, "--solid " + std::to_string(*options.solid) + ": the file has " + std::to_string(solids.size()) +
-                       " solid(s), numbered from 1");
+                       " solid(s), numbered from 1" + listed);
       out.shape = checked(path, solids[static_cast<std::size_t>(*options.solid - 1)],
                           static_cast<std::size_t>(*options.solid), out);
       out.notes.push_back("solid " + std::to_string(*options.solid) + " of " + std::to_string(solids.size()) +
-                          " (--solid)");
+                          " (--solid)" + listed);
       return out;
     }
     for (std::size_t i = 0; i < solids.size(); ++i) solids[i] = checked(path, solids[i], i + 1, out);
@@ -308,7 +336,7 @@ CadSolid read_cad_solid(const std::string& path, const LoadOptions& options) {
     out.shape = fuse.Shape();
     out.notes.push_back(std::to_string(solids.size()) + " solids, valid (BRepCheck_Analyzer), united into " +
                         std::to_string(count(out.shape, TopAbs_SOLID)) +
-                        " (BRepAlgoAPI_Fuse; --solid N takes one alone)");
+                        " (BRepAlgoAPI_Fuse; --solid N takes one alone)" + listed);
     return out;
   } catch (const Standard_Failure& e) {
     fail(path, std::string("OpenCASCADE failed: ") + (e.GetMessageString() ? e.GetMessageString() : "no message"));

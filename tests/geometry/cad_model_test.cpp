@@ -291,16 +291,21 @@ TEST(CadModel, SeveralSolidsAreUnitedOrPicked) {
   builder.Add(two, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 1, 1, 1).Shape());
   builder.Add(two, BRepPrimAPI_MakeBox(gp_Pnt(2, 0, 0), 1, 2, 1).Shape());
   const std::string path = path_of("two_boxes.step");
-  test::write_step(two, path);
+  test::write_step(two, path, "MM", STEPControl_AsIs, {}, {"cube", "slab"});
   const Model both = load_model(path);
   EXPECT_NEAR(enclosed_volume(both), 3.0, 1e-12);
   EXPECT_EQ(both.faces.size(), 12u);
+  bool listed = false;  // the file's names for its solids, for --solid
+  for (const std::string& n : both.notes) listed = listed || n.find(": 1 \"cube\", 2 \"slab\"") != std::string::npos;
+  EXPECT_TRUE(listed);
   LoadOptions second;
   second.solid = 2;
   const Model one = load_model(path, second);
   EXPECT_NEAR(enclosed_volume(one), 2.0, 1e-12);
   second.solid = 3;
-  EXPECT_NE(message_of([&] { load_model(path, second); }).find("--solid 3: the file has 2 solid(s)"),
+  EXPECT_NE(message_of([&] {
+              load_model(path, second);
+            }).find("--solid 3: the file has 2 solid(s), numbered from 1: 1 \"cube\", 2 \"slab\""),
             std::string::npos);
 }
 

@@ -22,7 +22,9 @@
 #include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
 #include <STEPControl_Writer.hxx>
+#include <StepData_StepModel.hxx>
 #include <StepShape_AdvancedFace.hxx>
+#include <StepShape_ManifoldSolidBrep.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TDocStd_Document.hxx>
 #include <TopExp.hxx>
@@ -110,7 +112,8 @@ inline void write_coloured_step(const TopoDS_Shape& shape, const std::string& pa
 /// numbering; empty strings leave a face unnamed).
 inline void write_step(const TopoDS_Shape& shape, const std::string& path, const char* unit = "MM",
                        STEPControl_StepModelType mode = STEPControl_AsIs,
-                       const std::vector<std::string>& face_names = {}) {
+                       const std::vector<std::string>& face_names = {},
+                       const std::vector<std::string>& solid_names = {}) {
   quiet_occt();
   static std::mutex m;  // the unit is a process-wide parameter
   std::lock_guard<std::mutex> lock(m);
@@ -128,6 +131,14 @@ inline void write_step(const TopoDS_Shape& shape, const std::string& path, const
     if (entity.IsNull()) throw std::runtime_error("no STEP face for face " + std::to_string(f + 1));
     entity->SetName(new TCollection_HAsciiString(face_names[f].c_str()));
   }
+  // Solids' names, in the order their MANIFOLD_SOLID_BREP entities were written.
+  std::size_t named = 0;
+  for (int i = 1; i <= writer.Model()->NbEntities() && named < solid_names.size(); ++i)
+    if (const Handle(StepShape_ManifoldSolidBrep) solid =
+            Handle(StepShape_ManifoldSolidBrep)::DownCast(writer.Model()->Value(i));
+        !solid.IsNull())
+      solid->SetName(new TCollection_HAsciiString(solid_names[named++].c_str()));
+  if (named < solid_names.size()) throw std::runtime_error("fewer STEP solids than solid names");
   if (writer.Write(path.c_str()) != IFSelect_RetDone) throw std::runtime_error("cannot write " + path);
   Interface_Static::SetCVal("write.step.unit", "MM");
 }
