@@ -134,6 +134,59 @@ std::vector<Vec3> points_on(const Literal& l, const std::vector<Vec3>& starts, d
   return out;
 }
 
+/// What the checks of a formula found.
+struct Checks {
+  std::string fault;  // empty when all passed
+  std::size_t signs = 0, surface_points = 0;
+};
+
+/// The formula's checks: its sign at fresh points against the exact
+/// solid, zero at the tessellation's nodes (which lie on the exact faces),
+/// and no zero off the boundary at points of the literals it uses (where
+/// touching terms would vanish).
+Checks check_formula(const Expr& field, const std::vector<Literal>& literals, const std::vector<bool>& used,
+                     const TriangleSurface& tessellation, const TriangleSurface& curved, const Vec3& lo, const Vec3& hi,
+                     double margin, double diagonal, Membership& membership) {
+  const double zero = 1e-10 * diagonal;
+  const Tape tape(field, 3);
+  Evaluator<double> eval(tape);
+  Checks out;
+  std::vector<Sample> fresh = samples(lo, hi, 24, tessellation, {1.25 * margin}, 20000, 2u, membership);
+  for (const Sample& s : samples(lo, hi, 0, curved, {0.25 * margin}, 300, 4u, membership)) fresh.push_back(s);
+  for (const Sample& s : fresh) {
+    const double w = eval.at(s.p);
+    if (std::abs(w) <= zero) continue;
+    ++out.signs;
+    if ((w > 0) != (s.side > 0)) {
+      out.fault = "the Boolean formula found from samples puts " + at(s.p) + (w > 0 ? " inside" : " outside") +
+                  ", OpenCASCADE's classifier does not";
+      return out;
+    }
+  }
+  for (const auto& p : tessellation.points)
+    if (std::abs(eval.at(p)) > 1e-6 * diagonal) {
+      out.fault = "the Boolean formula is not zero at " + at(p) + " on the boundary";
+      return out;
+    }
+  std::vector<Vec3> starts;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j)
+      for (int k = 0; k < 12; ++k)
+        starts.push_back({lo[0] + (hi[0] - lo[0]) * (i + 0.37) / 12, lo[1] + (hi[1] - lo[1]) * (j + 0.61) / 12,
+                          lo[2] + (hi[2] - lo[2]) * (k + 0.23) / 12});
+  for (std::size_t l = 0; l < literals.size(); ++l) {
+    if (!used[l]) continue;
+    for (const Vec3& p : points_on(literals[l], starts, zero)) {
+      ++out.surface_points;
+      if (std::abs(eval.at(p)) <= 1e-9 * diagonal && membership.off_boundary(p)) {
+        out.fault = "the Boolean formula vanishes at " + at(p) + ", off the solid's boundary (terms touching there)";
+        return out;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& tessellation,
@@ -220,44 +273,11 @@ std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& 
       for (std::size_t l = 0; l < literals.size(); ++l) used[l] = used[l] || ((t.mask[l / 64] >> (l % 64)) & 1u);
     const Expr field = formula_field(terms, literals, system);
 
-    // Checks: signs at fresh points, zeros on the faces, no zero inside.
-    const Tape tape(field, 3);
-    Evaluator<double> eval(tape);
-    std::size_t checked = 0;
-    std::vector<Sample> fresh = samples(lo, hi, 24, tessellation, {1.25 * margin}, 20000, 2u, membership);
-    for (const Sample& s : samples(lo, hi, 0, curved, {0.25 * margin}, 300, 4u, membership)) fresh.push_back(s);
-    for (const Sample& s : fresh) {
-      const double w = eval.at(s.p);
-      if (std::abs(w) <= zero) continue;
-      ++checked;
-      if ((w > 0) != (s.side > 0)) {
-        why_not = "the Boolean formula found from samples puts " + at(s.p) + (w > 0 ? " inside" : " outside") +
-                  ", OpenCASCADE's classifier does not";
-        return std::nullopt;
-      }
-    }
-    for (const auto& p : tessellation.points)
-      if (std::abs(eval.at(p)) > 1e-6 * diagonal) {
-        why_not = "the Boolean formula is not zero at " + at(p) + " on the boundary";
-        return std::nullopt;
-      }
-    std::vector<Vec3> starts;
-    for (int i = 0; i < 12; ++i)
-      for (int j = 0; j < 12; ++j)
-        for (int k = 0; k < 12; ++k)
-          starts.push_back({lo[0] + (hi[0] - lo[0]) * (i + 0.37) / 12, lo[1] + (hi[1] - lo[1]) * (j + 0.61) / 12,
-                            lo[2] + (hi[2] - lo[2]) * (k + 0.23) / 12});
-    std::size_t surface_points = 0;
-    for (std::size_t l = 0; l < literals.size(); ++l) {
-      if (!used[l]) continue;
-      for (const Vec3& p : points_on(literals[l], starts, zero)) {
-        ++surface_points;
-        // Zero away from the faces: terms touching there.
-        if (std::abs(eval.at(p)) <= 1e-9 * diagonal && membership.off_boundary(p)) {
-          why_not = "the Boolean formula vanishes at " + at(p) + ", off the solid's boundary (terms touching there)";
-          return std::nullopt;
-        }
-      }
+    const Checks checks =
+        check_formula(field, literals, used, tessellation, curved, lo, hi, margin, diagonal, membership);
+    if (!checks.fault.empty()) {
+      why_not = checks.fault;
+      return std::nullopt;
     }
 
     std::map<std::string, std::size_t> kinds;
@@ -273,8 +293,9 @@ std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& 
       comma = ", ";
     }
     if (separators) note << ", and " << separators << " separating surfaces";
-    note << "); its sign checked at " << checked << " points (OpenCASCADE's classifier near the faces), zero at the "
-         << tessellation.points.size() << " tessellation nodes, and nonzero off the boundary at " << surface_points
+    note << "); its sign checked at " << checks.signs
+         << " points (OpenCASCADE's classifier near the faces), zero at the " << tessellation.points.size()
+         << " tessellation nodes, and nonzero off the boundary at " << checks.surface_points
          << " points of its surfaces";
     ExactCsg out{field, {}, {note.str()}};
     for (std::size_t l : literal_of_face) out.face_surfaces.push_back(literals[l].field);
