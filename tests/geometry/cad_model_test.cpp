@@ -147,8 +147,11 @@ TEST(CadModel, CoordinatesInTheFilesUnit) {
   const Model m = load_model(path);
   EXPECT_EQ(m.unit, "inch");
   ASSERT_EQ(m.faces.size(), 7u);
-  for (const ModelFace& f : m.faces)
-    if (f.surface == "cylinder") EXPECT_NEAR(*f.radius, 0.4, 1e-9);
+  for (const ModelFace& f : m.faces) {
+    if (f.surface == "cylinder") {
+      EXPECT_NEAR(*f.radius, 0.4, 1e-9);
+    }
+  }
   EXPECT_NEAR(enclosed_volume(m), kChannelVolume, 1e-2);
   EXPECT_NE(message_of([&] { describe_face(m, 1); }).find("(no error)"), std::string::npos);
 }
