@@ -107,7 +107,7 @@ Expr formula_field(const std::vector<SignTerm>& terms, const std::vector<Literal
   for (const SignTerm& t : terms) {
     Conjunction c;
     for (std::size_t l = 0; l < literals.size(); ++l)
-      if ((t.mask[l / 64] >> (l % 64)) & 1u) c.emplace_back(l, ((t.bits[l / 64] >> (l % 64)) & 1u) != 0);
+      if (has_literal(t.mask, l)) c.emplace_back(l, has_literal(t.bits, l));
     conjunctions.push_back(std::move(c));
   }
   return factored(std::move(conjunctions), positive, negative, system);
@@ -270,7 +270,7 @@ std::optional<ExactCsg> exact_csg(const CadSolid& solid, const TriangleSurface& 
     const std::vector<SignTerm> terms = prime_terms(inside, outside, literals.size(), orders);
     std::vector<bool> used(literals.size(), false);
     for (const SignTerm& t : terms)
-      for (std::size_t l = 0; l < literals.size(); ++l) used[l] = used[l] || ((t.mask[l / 64] >> (l % 64)) & 1u);
+      for (std::size_t l = 0; l < literals.size(); ++l) used[l] = used[l] || has_literal(t.mask, l);
     const Expr field = formula_field(terms, literals, system);
 
     const Checks checks =

@@ -23,6 +23,10 @@ namespace sage::geometry {
 /// Signs of literals 0..n-1, bit l of word l / 64 set where literal l > 0.
 using SignVector = std::vector<std::uint64_t>;
 
+/// Whether bit l of v is set: literal l > 0 in a vector, used (mask) or
+/// positive (bits) in a term.
+inline bool has_literal(const SignVector& v, std::size_t l) { return (v[l / 64] >> (l % 64)) & 1u; }
+
 struct SignTerm {
   SignVector mask;  // the literals the term uses
   SignVector bits;  // their signs in the term
